@@ -1,0 +1,56 @@
+#pragma once
+/// A floorplan of line segments, each wall or glass with a thickness: the map every stage shares.
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "glassmap/core/pose2.hpp"
+
+namespace glassmap {
+
+/// What a segment is made of.
+enum class Material : std::uint8_t { Wall = 0, Glass = 1 };
+
+/// "wall" or "glass".
+std::string_view toString(Material m);
+/// Parses "wall"/"glass" (case-insensitive); throws Error otherwise.
+Material parseMaterial(std::string_view s);
+
+/// One straight piece of wall or glass. Endpoints in map frame [m].
+/// (Stored as plain doubles, the layout of CGAL's Epick Segment_2; see geometry/cgal.hpp
+/// for the conversion used by the stages that run CGAL algorithms.)
+struct MapSegment {
+  Vec2 a = Vec2::Zero();             ///< first endpoint [m]
+  Vec2 b = Vec2::Zero();             ///< second endpoint [m]
+  Material material = Material::Wall;
+  double thickness = 0.1;            ///< pane or wall thickness [m]
+  // Optional attributes filled by the vector stage (zero when unknown).
+  double pane_angle = 0.0;           ///< pane normal direction in [0, pi) [rad]
+  std::uint32_t support = 0;         ///< supporting grid cells
+  double evidence = 0.0;             ///< mean per-cell evidence
+
+  double length() const { return (b - a).norm(); }
+  /// Unit direction a -> b (undefined for zero length).
+  Vec2 direction() const { return (b - a).normalized(); }
+};
+
+/// Axis-aligned box [m].
+struct Box2 {
+  Vec2 min = Vec2::Constant(1e300);
+  Vec2 max = Vec2::Constant(-1e300);
+  bool empty() const { return min.x() > max.x(); }
+  void extend(const Vec2& p) { min = min.cwiseMin(p); max = max.cwiseMax(p); }
+};
+
+/// A floorplan: segments in a local metric frame (metres), one floor.
+struct VectorMap {
+  std::vector<MapSegment> segments;
+  std::string name;  ///< optional label (file stem, scene name)
+
+  Box2 bounds() const;
+  std::size_t count(Material m) const;
+};
+
+}  // namespace glassmap

@@ -1,0 +1,70 @@
+#pragma once
+/// A laser scan and a whole laser log as read from (or written to) a CARMEN log.
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "glassmap/core/pose2.hpp"
+
+namespace glassmap {
+
+/// Range value meaning "no return" (non-finite or negative readings become this).
+inline constexpr float kNoReturn = std::numeric_limits<float>::infinity();
+
+/// One 2D laser scan. Beam i points at start_angle + i * angular_step in the laser frame.
+struct LaserScan {
+  double timestamp = 0.0;       ///< [s]
+  double start_angle = 0.0;     ///< angle of the first beam in the laser frame [rad]
+  double angular_step = 0.0;    ///< angle between beams [rad]
+  double max_range = 0.0;       ///< sensor maximum range [m]
+  std::vector<float> ranges;    ///< [m]; kNoReturn for no return; >= max_range is a max reading
+  Pose2 laser_pose;             ///< laser pose in the map frame, SLAM-corrected where the log has it
+  Pose2 odom_pose;              ///< robot odometry pose (odometry frame)
+  bool has_odom = false;        ///< odom_pose was present on the line
+  int laser_id = 1;             ///< CARMEN laser number (FLASER = 1, RLASER = 2, RAWLASERn = n)
+
+  /// Angle of beam i in the laser frame [rad].
+  double beamAngle(std::size_t i) const { return start_angle + static_cast<double>(i) * angular_step; }
+  /// True when beam i is a real return (finite and below max range).
+  bool isReturn(std::size_t i) const {
+    const float r = ranges[i];
+    return std::isfinite(r) && r < max_range;
+  }
+  /// Field of view covered by the beams [rad].
+  double fieldOfView() const {
+    return ranges.empty() ? 0.0 : static_cast<double>(ranges.size() - 1) * angular_step;
+  }
+};
+
+/// A pose record with time (ODOM, TRUEPOS).
+struct StampedPose {
+  double timestamp = 0.0;  ///< [s]
+  Pose2 pose;
+  double tv = 0.0;         ///< translational velocity [m/s] (ODOM only)
+  double rv = 0.0;         ///< rotational velocity [rad/s] (ODOM only)
+};
+
+/// What a reader met while reading.
+struct LogReadStats {
+  std::size_t lines = 0;            ///< lines read
+  std::size_t scans = 0;            ///< scans kept
+  std::size_t skipped_lines = 0;    ///< lines of unknown type, skipped
+  std::map<std::string, std::size_t> skipped_by_type;  ///< unknown line types and their counts
+  std::size_t comment_lines = 0;    ///< '#' and empty lines
+  std::size_t no_return_ranges = 0; ///< non-finite or negative ranges turned into kNoReturn
+};
+
+/// A whole log in memory.
+struct LaserLog {
+  std::vector<LaserScan> scans;
+  std::vector<StampedPose> odometry;   ///< ODOM lines
+  std::vector<StampedPose> true_poses; ///< TRUEPOS lines
+  std::map<std::string, std::string> params;  ///< PARAM name -> value
+  LogReadStats stats;
+};
+
+}  // namespace glassmap

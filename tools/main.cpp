@@ -1,0 +1,26 @@
+// glassmap: laser logs to glass-aware maps, vector floorplans and localization.
+#include <iostream>
+
+#include "cli_common.hpp"
+#include "glassmap/core/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "glassmap: glass-aware laser mapping, vector floorplans and localization.\n"
+      "Run 'glassmap <verb> --help' for the options of a verb."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "glassmap 0.1.0");
+  glassmap::cli::registerAll(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const glassmap::Error& e) {
+    std::cerr << "glassmap: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "glassmap: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
