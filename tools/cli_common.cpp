@@ -25,6 +25,15 @@ void registerAll(CLI::App& app) {
   for (auto& [order, fn] : verbs) fn(app);
 }
 
+CLI::App& verb(CLI::App& app, const std::string& name, const std::string& description) {
+  for (CLI::App* sub : app.get_subcommands({})) {
+    if (sub->get_name() == name) return *sub;
+  }
+  CLI::App* sub = app.add_subcommand(name, description);
+  sub->require_subcommand(1);
+  return *sub;
+}
+
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) == 1; }
 
 std::size_t peakMemoryBytes() {

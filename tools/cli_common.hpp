@@ -19,6 +19,10 @@ struct Registrar {
 /// Calls every registered verb's Register in order.
 void registerAll(CLI::App& app);
 
+/// The subcommand `name` of app, created with `description` if it does not exist yet.
+/// Lets several cmd_*.cpp files add sub-verbs to one verb (eval cells, eval traj, ...).
+CLI::App& verb(CLI::App& app, const std::string& name, const std::string& description);
+
 /// True when stderr is a terminal (progress is shown only then).
 bool stderrIsTerminal();
 
