@@ -1,5 +1,13 @@
 #pragma once
 /// First-hit ray casting against a VectorMap through a uniform-grid spatial index (DDA walk).
+///
+/// Hit rule (cast and castBruteForce agree bit for bit): the ray o + s*u hits segment a..b at
+/// s > 0, s <= max_range, endpoints included. A ray parallel to a segment (collinear included)
+/// does not hit it: a zero-thickness line seen edge-on has no face; the segments joined to its
+/// ends are hit instead. A ray starting exactly on a segment does not hit that segment (s = 0 is
+/// excluded); pass `skip` to ignore the pane a continued ray starts on, which also guards against
+/// s being a rounding error above 0. Zero-length segments are never hit. Equal ranges resolve to
+/// the lower segment id.
 
 #include <cstdint>
 #include <limits>
@@ -20,7 +28,7 @@ struct RayHit {
 
 /// Settings of the spatial index.
 struct RayCasterOptions {
-  double cell_size = 0.0;  ///< grid cell [m]; 0 picks one from the segment lengths
+  double cell_size = 0.0;  ///< grid cell [m]; 0 picks one from the segment density
 };
 
 /// Immutable spatial index over a VectorMap's segments. Thread-safe for concurrent casts.
@@ -33,23 +41,60 @@ class RayCaster {
   RayHit cast(const Vec2& origin, double angle, double max_range,
               std::int32_t skip = -1) const;
 
+  /// Same as cast(origin, angle, ...) with a precomputed unit direction `dir` (no sin/cos).
+  RayHit cast(const Vec2& origin, const Vec2& dir, double max_range,
+              std::int32_t skip = -1) const;
+
+  /// Range only [m] of the first hit along unit direction `dir`; +infinity when nothing is hit
+  /// within max_range. The fastest entry point (no incidence angle, no material).
+  double castRange(const Vec2& origin, const Vec2& dir, double max_range,
+                   std::int32_t skip = -1) const;
+
+  /// A scan: `count` beams at angles start_angle + k * step [rad]; writes each beam's first-hit
+  /// range [m] to ranges[k], or `max_range` when nothing is hit. Directions come from one
+  /// sin/cos and a rotation recurrence (relative error ~1e-15 per beam).
+  void castScan(const Vec2& origin, double start_angle, double step, int count,
+                double max_range, double* ranges) const;
+
   /// Same as cast() by testing every segment: the reference for tests.
   RayHit castBruteForce(const Vec2& origin, double angle, double max_range,
+                        std::int32_t skip = -1) const;
+  /// castBruteForce with a precomputed unit direction.
+  RayHit castBruteForce(const Vec2& origin, const Vec2& dir, double max_range,
                         std::int32_t skip = -1) const;
 
   const VectorMap& map() const { return map_; }
   double cellSize() const { return cell_; }
+  int cellsX() const { return nx_; }  ///< grid columns
+  int cellsY() const { return ny_; }  ///< grid rows
+  /// Total entries in all cell lists (a segment counts once per cell it touches).
+  std::size_t cellEntries() const { return cell_items_.size(); }
 
  private:
+  struct Best {
+    double t;
+    std::int32_t id;
+  };
+  Best walk(double ox, double oy, double ux, double uy, double max_range,
+            std::int32_t skip) const;
+  Best brute(double ox, double oy, double ux, double uy, double max_range,
+             std::int32_t skip) const;
+  RayHit finish(const Best& best, double ux, double uy) const;
+
   VectorMap map_;
-  // Compact per-segment data for the hot loop.
-  struct Seg { double ax, ay, dx, dy; };
-  std::vector<Seg> segs_;
+  // Compact per-segment data for the hot loop: first endpoint and a -> b vector [m].
+  struct Seg {
+    double ax, ay, dx, dy;
+  };
+  std::vector<Seg> segs_;     // indexed by segment id (zero-length ones never enter cells)
+  std::vector<Seg> items_;    // CSR payload: a copy of each listed segment, cell by cell
+  std::vector<std::uint32_t> cell_items_;  // CSR payload: segment id of each entry
+  std::vector<std::uint32_t> cell_start_;  // CSR: cell -> [start, end) into the payloads
   double cell_ = 1.0;
-  Vec2 origin_ = Vec2::Zero();
+  double inv_cell_ = 1.0;
+  Vec2 origin_ = Vec2::Zero();  // lower-left corner of the grid [m]
+  Vec2 top_ = Vec2::Zero();     // upper-right corner of the grid [m]
   int nx_ = 0, ny_ = 0;
-  std::vector<std::uint32_t> cell_start_;  // CSR: cell -> [start, end) into cell_items_
-  std::vector<std::uint32_t> cell_items_;
 };
 
 }  // namespace glassmap

@@ -1,0 +1,271 @@
+#include "glassmap/geometry/ray_caster.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace glassmap {
+
+namespace {
+
+constexpr std::int32_t kNone = std::numeric_limits<std::int32_t>::max();
+
+// Ray o + t*u against segment a + v*d, v in [0, 1]. Solving t*u - v*d = a - o = w with 2D cross
+// products: t = (w x d) / (u x d), v = (w x u) / (u x d). The v test is done without division;
+// only accepted candidates pay for t. Parallel rays (u x d == 0, collinear included) never hit.
+// Both the grid walk and the brute force call this, so they agree bit for bit.
+template <class S>
+inline bool intersect(double ox, double oy, double ux, double uy, const S& s, double& t) {
+  const double wx = s.ax - ox, wy = s.ay - oy;
+  double den = ux * s.dy - uy * s.dx;
+  double tn = wx * s.dy - wy * s.dx;
+  double vn = wx * uy - wy * ux;
+  if (den < 0) {
+    den = -den;
+    tn = -tn;
+    vn = -vn;
+  }
+  // den > 0 is implied by 0 <= vn <= den together with tn > 0? No: den == 0 and vn == 0 would
+  // pass the v test, so test den explicitly.
+  if (!(den > 0) || !(vn >= 0) || !(vn <= den) || !(tn > 0)) return false;
+  t = tn / den;
+  return true;
+}
+
+// Does the segment a + v*d touch the box [x0,x1] x [y0,y1]? The caller guarantees that the
+// boxes of the two overlap; this checks the separating axis along the segment's normal.
+bool segmentTouchesBox(double ax, double ay, double dx, double dy, double x0, double y0,
+                       double x1, double y1) {
+  const double f00 = dx * (y0 - ay) - dy * (x0 - ax);
+  const double f10 = dx * (y0 - ay) - dy * (x1 - ax);
+  const double f01 = dx * (y1 - ay) - dy * (x0 - ax);
+  const double f11 = dx * (y1 - ay) - dy * (x1 - ax);
+  const bool all_pos = f00 > 0 && f10 > 0 && f01 > 0 && f11 > 0;
+  const bool all_neg = f00 < 0 && f10 < 0 && f01 < 0 && f11 < 0;
+  return !(all_pos || all_neg);
+}
+
+}  // namespace
+
+RayCaster::RayCaster(const VectorMap& map, RayCasterOptions options) : map_(map) {
+  const std::size_t n = map_.segments.size();
+  segs_.resize(n);
+  Box2 box;
+  double total_length = 0.0;
+  std::size_t valid = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const MapSegment& m = map_.segments[i];
+    segs_[i] = {m.a.x(), m.a.y(), m.b.x() - m.a.x(), m.b.y() - m.a.y()};
+    if (segs_[i].dx == 0.0 && segs_[i].dy == 0.0) continue;
+    box.extend(m.a);
+    box.extend(m.b);
+    total_length += m.length();
+    ++valid;
+  }
+  if (valid == 0) {  // nothing can be hit: an empty grid makes every cast miss
+    cell_start_.assign(1, 0);
+    return;
+  }
+  const double width = box.max.x() - box.min.x();
+  const double height = box.max.y() - box.min.y();
+  const double extent = std::max({width, height, 1e-6});
+
+  // Cell size: the mean segment length, which keeps each cell's list short while a ray
+  // crosses few cells; bounded so the grid has at most ~4M cells and at least one.
+  double cell = options.cell_size;
+  if (!(cell > 0.0)) cell = total_length / static_cast<double>(valid);
+  cell = std::clamp(cell, extent / 2048.0, extent);
+  cell_ = cell;
+  inv_cell_ = 1.0 / cell;
+
+  // Pad the box so segments on its border lie strictly inside; eps widens every cell when
+  // segments are listed, so a hit on (or within rounding of) a cell border is in both cells.
+  const double eps = 1e-6 * cell;
+  const double pad = 2 * eps;
+  origin_ = box.min - Vec2::Constant(pad);
+  nx_ = std::max(1, static_cast<int>(std::ceil((width + 2 * pad) * inv_cell_)));
+  ny_ = std::max(1, static_cast<int>(std::ceil((height + 2 * pad) * inv_cell_)));
+  top_ = origin_ + Vec2(nx_ * cell, ny_ * cell);
+
+  std::vector<std::vector<std::uint32_t>> lists(static_cast<std::size_t>(nx_) * ny_);
+  auto index = [&](double v, double o, int count) {
+    return std::clamp(static_cast<int>(std::floor((v - o) * inv_cell_)), 0, count - 1);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const Seg& s = segs_[i];
+    if (s.dx == 0.0 && s.dy == 0.0) continue;
+    const double xa = std::min(s.ax, s.ax + s.dx), xb = std::max(s.ax, s.ax + s.dx);
+    const double ya = std::min(s.ay, s.ay + s.dy), yb = std::max(s.ay, s.ay + s.dy);
+    const int ix0 = index(xa - eps, origin_.x(), nx_), ix1 = index(xb + eps, origin_.x(), nx_);
+    const int iy0 = index(ya - eps, origin_.y(), ny_), iy1 = index(yb + eps, origin_.y(), ny_);
+    for (int iy = iy0; iy <= iy1; ++iy) {
+      for (int ix = ix0; ix <= ix1; ++ix) {
+        const double x0 = origin_.x() + ix * cell - eps, x1 = origin_.x() + (ix + 1) * cell + eps;
+        const double y0 = origin_.y() + iy * cell - eps, y1 = origin_.y() + (iy + 1) * cell + eps;
+        if (segmentTouchesBox(s.ax, s.ay, s.dx, s.dy, x0, y0, x1, y1)) {
+          lists[static_cast<std::size_t>(iy) * nx_ + ix].push_back(static_cast<std::uint32_t>(i));
+        }
+      }
+    }
+  }
+  cell_start_.resize(lists.size() + 1);
+  std::size_t total = 0;
+  for (std::size_t c = 0; c < lists.size(); ++c) {
+    cell_start_[c] = static_cast<std::uint32_t>(total);
+    total += lists[c].size();
+  }
+  cell_start_[lists.size()] = static_cast<std::uint32_t>(total);
+  cell_items_.reserve(total);
+  items_.reserve(total);
+  for (const auto& list : lists) {
+    for (std::uint32_t id : list) {
+      cell_items_.push_back(id);
+      items_.push_back(segs_[id]);
+    }
+  }
+}
+
+RayCaster::Best RayCaster::walk(double ox, double oy, double ux, double uy, double max_range,
+                                std::int32_t skip) const {
+  Best best{max_range, kNone};
+  if (nx_ == 0 || !(max_range > 0)) return best;
+
+  // Clip the ray to the grid box (slab method): the walk covers t in [t0, t1].
+  double t0 = 0.0, t1 = max_range;
+  const double inv_ux = 1.0 / ux, inv_uy = 1.0 / uy;  // +-inf for axis-parallel rays
+  if (ux != 0.0) {
+    double ta = (origin_.x() - ox) * inv_ux, tb = (top_.x() - ox) * inv_ux;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  } else if (!(ox >= origin_.x() && ox <= top_.x())) {
+    return best;
+  }
+  if (uy != 0.0) {
+    double ta = (origin_.y() - oy) * inv_uy, tb = (top_.y() - oy) * inv_uy;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  } else if (!(oy >= origin_.y() && oy <= top_.y())) {
+    return best;
+  }
+  if (!(t0 <= t1)) return best;
+
+  // Amanatides-Woo DDA from the entry cell.
+  const double px = ox + t0 * ux, py = oy + t0 * uy;
+  int ix = std::clamp(static_cast<int>((px - origin_.x()) * inv_cell_), 0, nx_ - 1);
+  int iy = std::clamp(static_cast<int>((py - origin_.y()) * inv_cell_), 0, ny_ - 1);
+  const int step_x = ux > 0 ? 1 : -1, step_y = uy > 0 ? 1 : -1;
+  const double inf = std::numeric_limits<double>::infinity();
+  double t_max_x = inf, t_max_y = inf, t_delta_x = inf, t_delta_y = inf;
+  if (ux != 0.0) {
+    const double bx = origin_.x() + (ix + (ux > 0 ? 1 : 0)) * cell_;
+    t_max_x = (bx - ox) * inv_ux;
+    t_delta_x = cell_ * std::abs(inv_ux);
+  }
+  if (uy != 0.0) {
+    const double by = origin_.y() + (iy + (uy > 0 ? 1 : 0)) * cell_;
+    t_max_y = (by - oy) * inv_uy;
+    t_delta_y = cell_ * std::abs(inv_uy);
+  }
+  const std::uint32_t* start = cell_start_.data();
+  const Seg* items = items_.data();
+  const std::uint32_t* ids = cell_items_.data();
+  const std::uint32_t skip_id = static_cast<std::uint32_t>(skip);  // -1 matches no real id
+  for (;;) {
+    const std::size_t c = static_cast<std::size_t>(iy) * nx_ + ix;
+    const std::uint32_t end = start[c + 1];
+    for (std::uint32_t k = start[c]; k < end; ++k) {
+      double t;
+      if (intersect(ox, oy, ux, uy, items[k], t)) {
+        const std::uint32_t id = ids[k];
+        if (id == skip_id) continue;
+        const auto sid = static_cast<std::int32_t>(id);
+        if (t < best.t || (t == best.t && sid < best.id)) best = {t, sid};
+      }
+    }
+    // A hit within this cell's part of the ray is the first one: every segment that could be
+    // hit earlier lies in a cell already visited.
+    const double t_exit = std::min(t_max_x, t_max_y);
+    if (best.t <= t_exit || t_exit >= t1) break;
+    if (t_max_x < t_max_y) {
+      ix += step_x;
+      if (ix < 0 || ix >= nx_) break;
+      t_max_x += t_delta_x;
+    } else {
+      iy += step_y;
+      if (iy < 0 || iy >= ny_) break;
+      t_max_y += t_delta_y;
+    }
+  }
+  return best;
+}
+
+RayCaster::Best RayCaster::brute(double ox, double oy, double ux, double uy, double max_range,
+                                 std::int32_t skip) const {
+  Best best{max_range, kNone};
+  if (!(max_range > 0)) return best;
+  for (std::size_t i = 0; i < segs_.size(); ++i) {
+    const auto sid = static_cast<std::int32_t>(i);
+    if (sid == skip) continue;
+    double t;
+    if (intersect(ox, oy, ux, uy, segs_[i], t)) {
+      if (t < best.t || (t == best.t && sid < best.id)) best = {t, sid};
+    }
+  }
+  return best;
+}
+
+RayHit RayCaster::finish(const Best& best, double ux, double uy) const {
+  RayHit hit;
+  if (best.id == kNone) return hit;
+  const Seg& s = segs_[static_cast<std::size_t>(best.id)];
+  hit.range = best.t;
+  hit.segment = best.id;
+  hit.material = map_.segments[static_cast<std::size_t>(best.id)].material;
+  // Angle to the normal: cos = |u x d| / |d|, sin = |u . d| / |d|.
+  hit.incidence = std::atan2(std::abs(ux * s.dx + uy * s.dy), std::abs(ux * s.dy - uy * s.dx));
+  return hit;
+}
+
+RayHit RayCaster::cast(const Vec2& origin, double angle, double max_range,
+                       std::int32_t skip) const {
+  return cast(origin, Vec2(std::cos(angle), std::sin(angle)), max_range, skip);
+}
+
+RayHit RayCaster::cast(const Vec2& origin, const Vec2& dir, double max_range,
+                       std::int32_t skip) const {
+  return finish(walk(origin.x(), origin.y(), dir.x(), dir.y(), max_range, skip), dir.x(),
+                dir.y());
+}
+
+double RayCaster::castRange(const Vec2& origin, const Vec2& dir, double max_range,
+                            std::int32_t skip) const {
+  const Best best = walk(origin.x(), origin.y(), dir.x(), dir.y(), max_range, skip);
+  return best.id == kNone ? std::numeric_limits<double>::infinity() : best.t;
+}
+
+void RayCaster::castScan(const Vec2& origin, double start_angle, double step, int count,
+                         double max_range, double* ranges) const {
+  double ux = std::cos(start_angle), uy = std::sin(start_angle);
+  const double cs = std::cos(step), sn = std::sin(step);
+  for (int k = 0; k < count; ++k) {
+    const Best best = walk(origin.x(), origin.y(), ux, uy, max_range, -1);
+    ranges[k] = best.id == kNone ? max_range : best.t;
+    const double nux = ux * cs - uy * sn;
+    uy = ux * sn + uy * cs;
+    ux = nux;
+  }
+}
+
+RayHit RayCaster::castBruteForce(const Vec2& origin, double angle, double max_range,
+                                 std::int32_t skip) const {
+  return castBruteForce(origin, Vec2(std::cos(angle), std::sin(angle)), max_range, skip);
+}
+
+RayHit RayCaster::castBruteForce(const Vec2& origin, const Vec2& dir, double max_range,
+                                 std::int32_t skip) const {
+  return finish(brute(origin.x(), origin.y(), dir.x(), dir.y(), max_range, skip), dir.x(),
+                dir.y());
+}
+
+}  // namespace glassmap
