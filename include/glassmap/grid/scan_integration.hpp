@@ -1,0 +1,76 @@
+#pragma once
+/// Laser scans into grids: beams as segments, the occupancy pass and the per-angle pass.
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "glassmap/grid/angle_histograms.hpp"
+#include "glassmap/grid/hit_miss_grid.hpp"
+#include "glassmap/io/laser_scan.hpp"
+
+namespace glassmap::grid {
+
+/// How readings become beams.
+struct BeamOptions {
+  double range_cap = 30.0;      ///< beams are used up to this range [m]; longer returns and
+                                ///< max-range readings clear free space up to here, with no hit
+  double min_range = 0.05;      ///< readings below this are dropped (sensor dead zone) [m]
+  bool clear_no_return = true;  ///< no-return and max-range readings clear free space (to the cap)
+};
+
+/// One beam as a segment in the map frame.
+struct Beam {
+  Vec2 from;           ///< laser position [m]
+  Vec2 to;             ///< end of the traversed segment [m]
+  double angle = 0.0;  ///< beam direction in the map frame [rad]
+  double range = 0.0;  ///< length of the segment [m]
+  bool hit = false;    ///< true: the beam returned at `to` (the last cell is a hit)
+};
+
+/// Calls fn(const Beam&) for every usable beam of scan (see BeamOptions).
+template <class Fn>
+void forEachBeam(const LaserScan& scan, const BeamOptions& options, Fn&& fn) {
+  const double cap = options.range_cap;
+  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+    const float r = scan.ranges[i];
+    Beam beam;
+    beam.angle = scan.laser_pose.theta + scan.beamAngle(i);
+    if (scan.isReturn(i)) {
+      if (r < options.min_range) continue;
+      beam.hit = r <= cap;
+      beam.range = beam.hit ? static_cast<double>(r) : cap;  // beyond the cap: clear up to it
+    } else {
+      if (!options.clear_no_return) continue;
+      beam.range = scan.max_range > 0 ? std::min(cap, scan.max_range) : cap;
+    }
+    beam.from = scan.laser_pose.t;
+    beam.to = beam.from + beam.range * Vec2(std::cos(beam.angle), std::sin(beam.angle));
+    fn(beam);
+  }
+}
+
+/// A grid covering every laser position and beam segment of the log, plus margin [m].
+GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOptions& options,
+                            double margin = 1.0);
+
+/// What a pass over a log did.
+struct IntegrationStats {
+  std::size_t scans = 0;           ///< scans integrated
+  std::size_t beams = 0;           ///< beams traversed
+  std::size_t hit_beams = 0;       ///< beams ending in a hit
+  std::size_t cells_traversed = 0; ///< cell visits (hits + misses)
+};
+
+/// Progress callback: fraction done in [0, 1].
+using Progress = std::function<void(double)>;
+
+/// Pass 1: every beam adds a miss to each cell it crosses and, if it returned, a hit to its last cell.
+IntegrationStats integrateCounts(const LaserLog& log, const BeamOptions& options, HitMissGrid& grid,
+                                 const Progress& progress = {});
+
+/// Pass 2: the same beams into the per-angle histograms of the candidate cells.
+IntegrationStats integrateAngles(const LaserLog& log, const BeamOptions& options,
+                                 AngleHistograms& histograms, const Progress& progress = {});
+
+}  // namespace glassmap::grid

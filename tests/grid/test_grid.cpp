@@ -1,0 +1,204 @@
+// Tests of the grid module: geometry, exact traversal, counts, occupancy, angle bins.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <utility>
+
+#include "glassmap/grid/angle_histograms.hpp"
+#include "glassmap/grid/scan_integration.hpp"
+#include "glassmap/grid/traversal.hpp"
+
+namespace glassmap::grid {
+namespace {
+
+GridGeometry smallGrid() {
+  GridGeometry g;
+  g.resolution = 0.1;
+  g.origin = Vec2(-1.0, -2.0);
+  g.width = 40;
+  g.height = 30;
+  return g;
+}
+
+// Brute force: every cell whose closed box the segment meets with positive length.
+std::set<std::pair<int, int>> bruteForceCells(const GridGeometry& g, const Vec2& a, const Vec2& b) {
+  std::set<std::pair<int, int>> out;
+  for (int y = 0; y < g.height; ++y) {
+    for (int x = 0; x < g.width; ++x) {
+      GridGeometry cell = g;
+      cell.origin = g.origin + Vec2(x * g.resolution, y * g.resolution);
+      cell.width = cell.height = 1;
+      double t0 = 0, t1 = 1;
+      if (clipToGrid(cell, a, b, t0, t1) && (t1 - t0) * (b - a).norm() > 1e-9) out.insert({x, y});
+    }
+  }
+  return out;
+}
+
+TEST(GridGeometry, IndexAndCells) {
+  const GridGeometry g = smallGrid();
+  EXPECT_EQ(g.cells(), 1200U);
+  const CellIndex c = g.cellAt(Vec2(-0.95, -1.95));
+  EXPECT_EQ(c, (CellIndex{0, 0}));
+  EXPECT_EQ(g.cellAt(Vec2(0.05, 0.05)), (CellIndex{10, 20}));
+  EXPECT_EQ(g.cellOf(g.index(7, 9)), (CellIndex{7, 9}));
+  EXPECT_NEAR(g.center(10, 20).x(), 0.05, 1e-12);
+  const GridGeometry cov = coveringGeometry(Vec2(0.02, 0.03), Vec2(1.0, 2.0), 0.05, 0.1);
+  EXPECT_LE(cov.origin.x(), -0.08 + 1e-9);
+  EXPECT_GE(cov.maxCorner().x(), 1.1 - 1e-9);
+  EXPECT_GE(cov.maxCorner().y(), 2.1 - 1e-9);
+}
+
+TEST(Traversal, EqualsBruteForceOnRandomRays) {
+  const GridGeometry g = smallGrid();
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> ux(-1.5, 3.5), uy(-2.5, 1.5);
+  for (int trial = 0; trial < 400; ++trial) {
+    const Vec2 a(ux(rng), uy(rng)), b(ux(rng), uy(rng));
+    const auto cells = touchedCells(g, a, b);
+    std::set<std::pair<int, int>> got;
+    for (const auto& c : cells) got.insert({c.x, c.y});
+    EXPECT_EQ(got.size(), cells.size()) << "a cell visited twice";
+    EXPECT_EQ(got, bruteForceCells(g, a, b)) << "trial " << trial;
+    // Consecutive cells are 4-neighbours and the walk ends in b's cell when b is inside.
+    for (std::size_t i = 1; i < cells.size(); ++i) {
+      EXPECT_EQ(std::abs(cells[i].x - cells[i - 1].x) + std::abs(cells[i].y - cells[i - 1].y), 1);
+    }
+    if (g.contains(g.cellAt(b)) && !cells.empty()) {
+      EXPECT_EQ(cells.back(), g.cellAt(b));
+    }
+    if (g.contains(g.cellAt(a)) && !cells.empty()) {
+      EXPECT_EQ(cells.front(), g.cellAt(a));
+    }
+  }
+}
+
+TEST(Traversal, AxisAlignedAndSingleCell) {
+  const GridGeometry g = smallGrid();
+  const auto row = touchedCells(g, Vec2(-0.95, -1.95), Vec2(0.05, -1.95));
+  ASSERT_EQ(row.size(), 11U);
+  for (int i = 0; i < 11; ++i) EXPECT_EQ(row[i], (CellIndex{i, 0}));
+  const auto one = touchedCells(g, Vec2(0.01, 0.01), Vec2(0.02, 0.03));
+  ASSERT_EQ(one.size(), 1U);
+  EXPECT_TRUE(touchedCells(g, Vec2(-5, -5), Vec2(-4, -5)).empty());
+}
+
+TEST(Traversal, EnterParameterIsMonotoneAndOnCellBorders) {
+  const GridGeometry g = smallGrid();
+  const Vec2 a(-0.93, -1.91), b(2.71, 0.77);
+  double prev = -1.0;
+  traverse(g, a, b, [&](int x, int y, double t, bool) {
+    EXPECT_GE(t, prev);
+    prev = t;
+    const Vec2 p = a + t * (b - a);  // on the cell's border (or the start)
+    const Vec2 lo = g.origin + Vec2(x * g.resolution, y * g.resolution);
+    EXPECT_GE(p.x(), lo.x() - 1e-9);
+    EXPECT_LE(p.x(), lo.x() + g.resolution + 1e-9);
+    EXPECT_GE(p.y(), lo.y() - 1e-9);
+    EXPECT_LE(p.y(), lo.y() + g.resolution + 1e-9);
+  });
+}
+
+TEST(Occupancy, HitsOccupyMissesFree) {
+  OccupancyModel m;
+  EXPECT_GT(m.logOdds({3, 0}), 0.0);
+  EXPECT_LT(m.logOdds({0, 3}), 0.0);
+  EXPECT_TRUE(m.occupied({5, 2}));
+  EXPECT_FALSE(m.occupied({1, 10}));
+  EXPECT_NEAR(m.probability({100, 0}), 0.97, 1e-3);  // clamped
+  EXPECT_NEAR(m.probability({0, 100}), 0.12, 1e-3);
+}
+
+LaserLog wallLog() {
+  // A laser at the origin looking along +x at a wall at x = 2 m, 181 beams over +-20 deg.
+  LaserLog log;
+  for (int s = 0; s < 5; ++s) {
+    LaserScan scan;
+    scan.max_range = 10.0;
+    scan.start_angle = deg2rad(-20.0);
+    scan.angular_step = deg2rad(40.0 / 180.0);
+    scan.laser_pose = Pose2(0.0, 0.1 * s, 0.0);
+    for (int i = 0; i < 181; ++i) scan.ranges.push_back(static_cast<float>(2.0 / std::cos(scan.beamAngle(i))));
+    scan.ranges[90] = 10.0f;  // one max-range reading: clears, no hit
+    log.scans.push_back(scan);
+  }
+  return log;
+}
+
+TEST(ScanIntegration, WallIsOccupiedAndFreeSpaceFree) {
+  const LaserLog log = wallLog();
+  BeamOptions opt;
+  opt.range_cap = 8.0;
+  const GridGeometry g = geometryForLog(log, 0.05, opt);
+  HitMissGrid grid(g);
+  const IntegrationStats st = integrateCounts(log, opt, grid);
+  EXPECT_EQ(st.beams, 5U * 181U);
+  EXPECT_EQ(st.hit_beams, 5U * 180U);
+  OccupancyModel m;
+  const CellIndex wall = g.cellAt(Vec2(2.01, 0.2));
+  EXPECT_TRUE(m.occupied(grid.get(wall.x, wall.y)));
+  const CellIndex free_cell = g.cellAt(Vec2(1.0, 0.2));
+  EXPECT_LT(m.logOdds(grid.get(free_cell.x, free_cell.y)), 0.0);
+  // The max-range beam (straight ahead) cleared cells behind the wall up to the cap, no hit there.
+  const CellIndex behind = g.cellAt(Vec2(7.5, 0.0));
+  EXPECT_EQ(grid.get(behind.x, behind.y).hits, 0);
+  EXPECT_GT(grid.get(behind.x, behind.y).misses, 0);
+  // Memory follows what was seen: far fewer tiles than the bounding box holds.
+  EXPECT_GT(grid.observedCells(), 100U);
+  EXPECT_LE(grid.allocatedTiles() * HitMissGrid::kTileCells, g.cells() + 64U * HitMissGrid::kTileCells);
+}
+
+TEST(AngleHistograms, BinsWrapAtHalfTurn) {
+  EXPECT_EQ(angleBin(0.0, 36), 0);
+  EXPECT_EQ(angleBin(kPi, 36), 0);
+  EXPECT_EQ(angleBin(deg2rad(179.0), 36), 0);
+  EXPECT_EQ(angleBin(deg2rad(2.4), 36), 0);
+  EXPECT_EQ(angleBin(deg2rad(2.6), 36), 1);
+  EXPECT_EQ(angleBin(deg2rad(-90.0), 36), 18);
+  EXPECT_EQ(angleBin(deg2rad(275.0), 36), 19);
+  EXPECT_EQ(angleBin(deg2rad(45.0), 36), 9);
+}
+
+TEST(AngleHistograms, HitsAndMissesLandInTheBeamBin) {
+  const LaserLog log = wallLog();
+  BeamOptions opt;
+  opt.range_cap = 8.0;
+  const GridGeometry g = geometryForLog(log, 0.05, opt);
+  HitMissGrid grid(g);
+  integrateCounts(log, opt, grid);
+  AngleHistograms hist(grid, 36);
+  ASSERT_GT(hist.size(), 0U);
+  integrateAngles(log, opt, hist);
+  // The wall cell straight ahead of the first pose is hit by beams within atan(0.4 / 2) = 11.3 deg
+  // of 0 deg (poses y = 0 .. 0.4 m): bins 34, 35, 0, 1, 2 only, most of them in bin 0.
+  const CellIndex c = g.cellAt(Vec2(2.01, 0.0));
+  const std::int32_t id = hist.find(c.x, c.y);
+  ASSERT_NE(id, AngleHistograms::kNone);
+  int near = 0, total = 0;
+  for (int b = 0; b < 36; ++b) {
+    total += hist.hits(id)[b];
+    if (b <= 2 || b >= 34) near += hist.hits(id)[b];
+  }
+  EXPECT_GT(hist.hits(id)[0], 0);
+  EXPECT_EQ(near, total);
+  EXPECT_GE(hist.hits(id)[0], hist.hits(id)[2]);
+  // Totals of a candidate equal the counts of pass 1.
+  for (std::size_t i = 0; i < hist.size(); ++i) {
+    const auto cell = g.cellOf(hist.cell(static_cast<std::int32_t>(i)));
+    int h = 0, mi = 0;
+    for (int b = 0; b < 36; ++b) {
+      h += hist.hits(static_cast<std::int32_t>(i))[b];
+      mi += hist.misses(static_cast<std::int32_t>(i))[b];
+    }
+    EXPECT_EQ(h, grid.get(cell.x, cell.y).hits);
+    EXPECT_EQ(mi, grid.get(cell.x, cell.y).misses);
+  }
+  // A free cell is no candidate.
+  const CellIndex f = g.cellAt(Vec2(1.0, 0.2));
+  EXPECT_EQ(hist.find(f.x, f.y), AngleHistograms::kNone);
+}
+
+}  // namespace
+}  // namespace glassmap::grid
