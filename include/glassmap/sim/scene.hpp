@@ -28,18 +28,18 @@ LaserSpec laserPreset(const std::string& name);
 /// How glass acts on the beam (physics, not the sensor model we fit later).
 struct GlassPhysics {
   double n_glass = 1.5;            ///< refractive index of the panes
-  double direct_sigma = deg2rad(3.0);  ///< angular width of the direct return lobe [rad]
+  double direct_sigma = deg2rad(2.0);  ///< angular width of the direct return lobe [rad]
   double direct_peak = 0.9;        ///< probability of a direct return at normal incidence
-  double reflection_gain = 2.5;    ///< P(specular) = min(1, gain * Fresnel reflectance)
-  double min_return_power = 0.0;   ///< unused by default; reserved for power-limited returns
+  double reflection_gain = 1.0;    ///< P(specular) = min(1, gain * unpolarised Fresnel reflectance)
   int max_bounces = 4;             ///< reflections/transmissions followed per beam
 };
 
 /// Odometry and SLAM-pose noise.
 struct MotionNoise {
-  double odom_trans_sigma = 0.01;   ///< odometry noise per metre travelled [m/m]
-  double odom_rot_sigma = 0.01;     ///< odometry heading noise per radian turned [rad/rad]
-  double odom_rot_per_m = 0.002;    ///< heading noise per metre travelled [rad/m]
+  // Random-walk noise: standard deviations after 1 m travelled or 1 rad turned.
+  double odom_trans_sigma = 0.01;   ///< translation noise [m per sqrt(m)]
+  double odom_rot_sigma = 0.01;     ///< heading noise from turning [rad per sqrt(rad)]
+  double odom_rot_per_m = 0.005;    ///< heading noise from driving [rad per sqrt(m)]
   double odom_scale_bias = 0.0;     ///< systematic scale error (0.02 = odometry reads 2% long)
   double odom_drift_per_m = 0.0;    ///< systematic heading drift [rad/m]
   double slam_sigma_xy = 0.01;      ///< noise of the logged (SLAM) laser pose [m]

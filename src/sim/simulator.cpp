@@ -1,0 +1,230 @@
+#include "glassmap/sim/simulator.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <random>
+
+#include "glassmap/core/error.hpp"
+#include "glassmap/geometry/optics.hpp"
+#include "glassmap/geometry/ray_caster.hpp"
+#include "trajectory.hpp"
+
+namespace glassmap::sim {
+namespace {
+
+constexpr std::size_t kOutcomes = static_cast<std::size_t>(BeamOutcome::kCount);
+
+// SplitMix64: independent, reproducible seeds for each random stream (odometry, people, scan k).
+std::uint64_t mix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+// A group of people walking in a straight line, bouncing off the floor's bounding box.
+struct Walker {
+  Vec2 start;
+  Vec2 velocity;
+  std::vector<Vec2> offsets;  // members around the group centre
+};
+
+Vec2 bounce(const Vec2& p, const Box2& box) {
+  Vec2 out;
+  for (int i = 0; i < 2; ++i) {
+    const double lo = box.min[i], span = box.max[i] - box.min[i];
+    if (span <= 0) {
+      out[i] = lo;
+      continue;
+    }
+    double u = std::fmod(p[i] - lo, 2 * span);
+    if (u < 0) u += 2 * span;
+    out[i] = lo + (u <= span ? u : 2 * span - u);
+  }
+  return out;
+}
+
+std::vector<Walker> makeWalkers(const PeopleSpec& spec, const Box2& box, std::mt19937_64& rng) {
+  std::vector<Walker> walkers;
+  if (spec.density <= 0 || box.empty()) return walkers;
+  const Vec2 size = box.max - box.min;
+  const double people = spec.density * size.x() * size.y() / 100.0;
+  const int groups = static_cast<int>(std::lround(people / spec.group_size));
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int g = 0; g < groups; ++g) {
+    Walker w;
+    w.start = box.min + Vec2(u(rng) * size.x(), u(rng) * size.y());
+    const double heading = 2 * kPi * u(rng);
+    w.velocity = spec.speed * Vec2(std::cos(heading), std::sin(heading));
+    const Vec2 side(-std::sin(heading), std::cos(heading));
+    for (int m = 0; m < spec.group_size; ++m)
+      w.offsets.push_back(side * (m - 0.5 * (spec.group_size - 1)) * (2.4 * spec.radius));
+    walkers.push_back(std::move(w));
+  }
+  return walkers;
+}
+
+// Distance along the ray (o, d) to the first crossing of a disc, +inf if none.
+double rayDisc(const Vec2& o, const Vec2& d, const Vec2& c, double r) {
+  const Vec2 oc = o - c;
+  const double b = oc.dot(d);
+  const double q = oc.squaredNorm() - r * r;
+  const double disc = b * b - q;
+  if (disc < 0) return std::numeric_limits<double>::infinity();
+  const double t = -b - std::sqrt(disc);
+  return t > 0 ? t : std::numeric_limits<double>::infinity();
+}
+
+struct BeamResult {
+  double range;
+  BeamOutcome outcome;
+};
+
+// Follows one beam through glass: direct return, specular reflection or transmission at each pane.
+BeamResult traceBeam(const RayCaster& caster, const Scene& scene, Vec2 origin, double angle,
+                     const std::vector<Vec2>& people, std::mt19937_64& rng) {
+  const GlassPhysics& glass = scene.glass;
+  const double max_range = scene.laser.max_range;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  double path = 0.0;        // geometric length travelled so far [m]
+  double elongation = 0.0;  // extra time-of-flight range from glass crossed [m]
+  bool reflected = false, transmitted = false;
+  std::int32_t skip = -1;
+  for (int bounce = 0; bounce <= glass.max_bounces; ++bounce) {
+    const double remaining = max_range - path - elongation;
+    if (remaining <= 0) break;
+    const RayHit hit = caster.cast(origin, angle, remaining, skip);
+    const Vec2 dir(std::cos(angle), std::sin(angle));
+    double person = std::numeric_limits<double>::infinity();
+    for (const Vec2& c : people) person = std::min(person, rayDisc(origin, dir, c, scene.people.radius));
+    if (person < remaining && (!hit.hit() || person < hit.range))
+      return {path + person + elongation, BeamOutcome::Person};
+    if (!hit.hit()) break;
+    path += hit.range;
+    const auto classify = [&] {
+      return reflected ? BeamOutcome::GlassReflected
+                       : (transmitted ? BeamOutcome::GlassTransmitted : BeamOutcome::Wall);
+    };
+    if (hit.material == Material::Wall) return {path + elongation, classify()};
+
+    // Glass. Direct return: the specular echo re-enters the receiver only near normal incidence.
+    const double theta = hit.incidence;
+    const double p_direct = glass.direct_peak * std::exp(-theta * theta / (2 * glass.direct_sigma * glass.direct_sigma));
+    if (uniform(rng) < p_direct) return {path + elongation, BeamOutcome::GlassDirect};
+    const Vec2 point = origin + hit.range * dir;
+    const MapSegment& pane = caster.map().segments[static_cast<std::size_t>(hit.segment)];
+    const double p_reflect = std::min(1.0, glass.reflection_gain * reflectance(theta, 1.0, glass.n_glass));
+    if (uniform(rng) < p_reflect) {
+      // Specular reflection: mirror the direction about the pane; the reading is the whole path.
+      const Vec2 t = pane.direction();
+      const Vec2 mirrored = 2.0 * dir.dot(t) * t - dir;
+      angle = std::atan2(mirrored.y(), mirrored.x());
+      reflected = true;
+    } else {
+      // Transmission: the beam goes on (lateral shift neglected), slowed inside the pane.
+      elongation += paneRangeElongation(pane.thickness, theta, glass.n_glass);
+      transmitted = true;
+    }
+    origin = point;
+    skip = hit.segment;
+  }
+  return {max_range, BeamOutcome::MaxRange};
+}
+
+}  // namespace
+
+const char* toString(BeamOutcome o) {
+  switch (o) {
+    case BeamOutcome::Wall: return "wall";
+    case BeamOutcome::GlassDirect: return "glass_direct";
+    case BeamOutcome::GlassReflected: return "glass_reflected";
+    case BeamOutcome::GlassTransmitted: return "glass_transmitted";
+    case BeamOutcome::Person: return "person";
+    case BeamOutcome::MaxRange: return "max_range";
+    case BeamOutcome::kCount: break;
+  }
+  return "?";
+}
+
+SimResult simulate(const Scene& scene, const SimOptions& options) {
+  const LaserSpec& laser = scene.laser;
+  if (laser.rate <= 0 || laser.resolution <= 0 || laser.fov <= 0 || laser.max_range <= 0)
+    throw Error("laser rate, resolution, field of view and max range must be positive");
+  const double dt = 1.0 / laser.rate;
+  const std::vector<Pose2> truth =
+      sampleTrajectory(scene.trajectory, dt, options.duration_limit, options.repeat_until_limit);
+  std::mt19937_64 odom_rng(mix(options.seed ^ 0x0d0d0d0dULL));
+  const std::vector<Pose2> odom = simulateOdometry(truth, scene.motion, odom_rng);
+  std::mt19937_64 people_rng(mix(options.seed ^ 0x9e0b1eULL));
+  const Box2 box = scene.map.bounds();
+  const std::vector<Walker> walkers = makeWalkers(scene.people, box, people_rng);
+
+  const RayCaster caster(scene.map);
+  const std::size_t beams = static_cast<std::size_t>(std::lround(laser.fov / laser.resolution)) + 1;
+  const std::size_t n = truth.size();
+
+  SimResult result;
+  result.log.scans.resize(n);
+  result.log.odometry.resize(n);
+  result.ground_truth.resize(n);
+  result.outcomes.assign(n, std::vector<BeamOutcome>(beams, BeamOutcome::MaxRange));
+
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
+    std::mt19937_64 rng(mix(options.seed + 0x5ca9ULL * (k + 1)));
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    const double time = static_cast<double>(k) * dt;
+    const Pose2 T_map_laser = truth[k] * laser.T_base_laser;
+
+    std::vector<Vec2> people;
+    for (const Walker& w : walkers) {
+      const Vec2 centre = bounce(w.start + time * w.velocity, box);
+      for (const Vec2& off : w.offsets) {
+        const Vec2 c = centre + off;
+        const double dist = (c - T_map_laser.t).norm();
+        // A person never stands on the robot; far people cannot cut a beam.
+        if (dist > scene.people.radius + 0.3 && dist < laser.max_range + scene.people.radius) people.push_back(c);
+      }
+    }
+
+    LaserScan& scan = result.log.scans[k];
+    scan.timestamp = time;
+    scan.start_angle = -0.5 * static_cast<double>(beams - 1) * laser.resolution;
+    scan.angular_step = laser.resolution;
+    scan.max_range = laser.max_range;
+    scan.ranges.resize(beams);
+    scan.laser_pose = Pose2(T_map_laser.t + scene.motion.slam_sigma_xy * Vec2(gauss(rng), gauss(rng)),
+                            T_map_laser.theta + scene.motion.slam_sigma_theta * gauss(rng));
+    scan.odom_pose = odom[k];
+    scan.has_odom = true;
+    for (std::size_t i = 0; i < beams; ++i) {
+      const double angle = T_map_laser.theta + scan.beamAngle(i);
+      BeamResult beam = traceBeam(caster, scene, T_map_laser.t, angle, people, rng);
+      if (beam.outcome != BeamOutcome::MaxRange) {
+        beam.range += laser.range_sigma * gauss(rng);
+        if (beam.range >= laser.max_range) beam.outcome = BeamOutcome::MaxRange;
+      }
+      scan.ranges[i] = beam.outcome == BeamOutcome::MaxRange
+                           ? static_cast<float>(laser.max_range)
+                           : static_cast<float>(std::max(0.0, beam.range));
+      result.outcomes[k][i] = beam.outcome;
+    }
+    StampedPose& o = result.log.odometry[k];
+    o.timestamp = time;
+    o.pose = odom[k];
+    result.ground_truth[k] = {time, T_map_laser, 0.0, 0.0};
+  });
+
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    const Pose2 d = odom[k].between(odom[k + 1]);
+    result.log.odometry[k].tv = d.t.norm() / dt;
+    result.log.odometry[k].rv = d.theta / dt;
+  }
+  for (const auto& scan : result.outcomes)
+    for (BeamOutcome o : scan) ++result.counts[static_cast<std::size_t>(o)];
+  result.log.stats.scans = n;
+  static_assert(kOutcomes == 6);
+  return result;
+}
+
+}  // namespace glassmap::sim

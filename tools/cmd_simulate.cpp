@@ -1,0 +1,134 @@
+// glassmap simulate SCENE -o DIR: a laser log with ground truth from a scene.
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.hpp"
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
+#include "glassmap/io/carmen.hpp"
+#include "glassmap/io/floorplan.hpp"
+#include "glassmap/io/tum.hpp"
+#include "glassmap/sim/simulator.hpp"
+
+namespace glassmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SimulateArgs {
+  std::string scene;
+  std::string out;
+  std::uint64_t seed = 1;
+  double duration = 0.0;
+  double people = -1.0;
+  double range_sigma = -1.0;
+  bool quiet = false;
+};
+
+nlohmann::json sceneJson(const sim::Scene& s) {
+  const auto& l = s.laser;
+  const auto& g = s.glass;
+  const auto& m = s.motion;
+  return {{"name", s.name},
+          {"segments", s.map.segments.size()},
+          {"glass_segments", s.map.count(Material::Glass)},
+          {"laser",
+           {{"model", l.model}, {"fov_deg", rad2deg(l.fov)}, {"resolution_deg", rad2deg(l.resolution)},
+            {"max_range", l.max_range}, {"rate", l.rate}, {"range_sigma", l.range_sigma}}},
+          {"glass",
+           {{"n_glass", g.n_glass}, {"direct_sigma_deg", rad2deg(g.direct_sigma)}, {"direct_peak", g.direct_peak},
+            {"reflection_gain", g.reflection_gain}, {"max_bounces", g.max_bounces}}},
+          {"motion",
+           {{"odom_trans_sigma", m.odom_trans_sigma}, {"odom_rot_sigma", m.odom_rot_sigma},
+            {"odom_rot_per_m", m.odom_rot_per_m}, {"odom_scale_bias", m.odom_scale_bias},
+            {"odom_drift_deg_per_m", rad2deg(m.odom_drift_per_m)}, {"slam_sigma_xy", m.slam_sigma_xy},
+            {"slam_sigma_theta_deg", rad2deg(m.slam_sigma_theta)}}},
+          {"people",
+           {{"density", s.people.density}, {"radius", s.people.radius}, {"speed", s.people.speed},
+            {"group_size", s.people.group_size}}},
+          {"trajectory",
+           {{"waypoints", s.trajectory.waypoints.size()}, {"round_trip", s.trajectory.round_trip},
+            {"speed", s.trajectory.speed}, {"turn_rate_deg", rad2deg(s.trajectory.turn_rate)}}}};
+}
+
+void run(const SimulateArgs& args) {
+  const auto t0 = std::chrono::steady_clock::now();
+  sim::Scene scene = sim::loadScene(args.scene);
+  if (args.people >= 0) scene.people.density = args.people;
+  if (args.range_sigma >= 0) scene.laser.range_sigma = args.range_sigma;
+  sim::SimOptions options;
+  options.seed = args.seed;
+  options.duration_limit = args.duration;
+  options.repeat_until_limit = args.duration > 0;
+  if (!args.quiet) std::cerr << "simulating " << scene.name << " (seed " << args.seed << ")...\n";
+  const sim::SimResult result = sim::simulate(scene, options);
+
+  const fs::path dir(args.out);
+  fs::create_directories(dir);
+  writeCarmenLog(dir / "log.clf", result.log);
+  writeTum(dir / "groundtruth.tum", result.ground_truth);
+  writeFloorplan(dir / "floorplan.gpkg", scene.map);
+  writeFloorplan(dir / "floorplan.geojson", scene.map);
+  // Per-beam outcomes, scan-major, one byte each (codes as in BeamOutcome): for render --outcomes.
+  writeAtomically(dir / "outcomes.bin", [&](const fs::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    for (const auto& scan : result.outcomes)
+      out.write(reinterpret_cast<const char*>(scan.data()), static_cast<std::streamsize>(scan.size()));
+    if (!out) throw Error("cannot write", (dir / "outcomes.bin").string());
+  });
+
+  std::size_t beams = 0;
+  nlohmann::json counts;
+  for (std::size_t i = 0; i < result.counts.size(); ++i) {
+    counts[sim::toString(static_cast<sim::BeamOutcome>(i))] = result.counts[i];
+    beams += result.counts[i];
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  nlohmann::json meta = {{"scene", sceneJson(scene)},
+                         {"seed", args.seed},
+                         {"scans", result.log.scans.size()},
+                         {"beams", beams},
+                         {"duration_s", result.ground_truth.empty() ? 0.0 : result.ground_truth.back().timestamp},
+                         {"outcome_counts", counts},
+                         {"outcome_codes", {"wall", "glass_direct", "glass_reflected", "glass_transmitted",
+                                            "person", "max_range"}},
+                         {"seconds", seconds}};
+  writeAtomically(dir / "meta.json", [&](const fs::path& tmp) {
+    std::ofstream(tmp) << meta.dump(2) << "\n";
+  });
+  if (!args.quiet) {
+    std::printf("%-18s %12s\n", "scans", std::to_string(result.log.scans.size()).c_str());
+    std::printf("%-18s %12zu\n", "beams", beams);
+    for (auto& [name, n] : counts.items())
+      std::printf("  %-16s %12zu  (%.2f%%)\n", name.c_str(), n.get<std::size_t>(),
+                  beams ? 100.0 * n.get<double>() / static_cast<double>(beams) : 0.0);
+    std::printf("%-18s %12.2f\n", "seconds", seconds);
+    std::printf("wrote %s/{log.clf,groundtruth.tum,floorplan.gpkg,floorplan.geojson,outcomes.bin,meta.json}\n",
+                dir.string().c_str());
+  }
+}
+
+const cli::Registrar reg(30, [](CLI::App& app) {
+  auto args = std::make_shared<SimulateArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "simulate",
+      "Simulate a laser log with ground truth from a scene (maps/<scene>/scene.yaml):\n"
+      "writes DIR/log.clf (CARMEN), DIR/groundtruth.tum, DIR/floorplan.gpkg + .geojson (the true\n"
+      "segments), DIR/outcomes.bin (one byte per beam: its physical outcome) and DIR/meta.json.");
+  sub->add_option("scene", args->scene, "scene YAML file")->required()->check(CLI::ExistingFile);
+  sub->add_option("-o,--output", args->out, "output directory (created if missing)")->required();
+  sub->add_option("--seed", args->seed, "random seed; the same seed gives the same log")->capture_default_str();
+  sub->add_option("--duration", args->duration,
+                  "simulate this many seconds, driving the trajectory back and forth (0: once)")
+      ->capture_default_str();
+  sub->add_option("--people", args->people, "override the scene's people density [per 100 m^2]");
+  sub->add_option("--range-sigma", args->range_sigma, "override the laser's range noise [m]");
+  sub->add_flag("-q,--quiet", args->quiet, "print nothing on success");
+  sub->callback([args] { run(*args); });
+});
+
+}  // namespace
+}  // namespace glassmap
