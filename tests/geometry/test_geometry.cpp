@@ -6,6 +6,7 @@
 
 #include "geojson_segments.hpp"
 #include "glassmap/core/angles.hpp"
+#include "glassmap/geometry/optics.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
 
 using namespace glassmap;
@@ -244,5 +245,128 @@ TEST(RayCaster, ScanMatchesSingleCasts) {
   for (int k = 0; k < 61; ++k) {
     const RayHit h = caster.cast(Vec2(0.5, 0.5), start + k * step, 30.0);
     EXPECT_NEAR(ranges[k], h.hit() ? h.range : 30.0, 1e-9) << k;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Optics
+
+TEST(Optics, NormalIncidenceReflectsFourPercent) {
+  const Fresnel f = fresnel(0.0, 1.0, 1.5);
+  EXPECT_NEAR(f.r_s, 0.04, 1e-12);
+  EXPECT_NEAR(f.r_p, 0.04, 1e-12);
+  EXPECT_NEAR(f.reflectance(), 0.04, 1e-12);
+  EXPECT_NEAR(f.transmittance(), 0.96, 1e-12);
+  EXPECT_FALSE(f.total_internal_reflection);
+  EXPECT_NEAR(reflectance(0.0, 1.5, 1.0), 0.04, 1e-12);  // same from the glass side
+}
+
+TEST(Optics, ReflectancePlusTransmittanceIsOne) {
+  for (double n2 : {1.33, 1.5, 1.9}) {
+    for (int k = 0; k <= 90; ++k) {
+      const double th = deg2rad(k);
+      const Fresnel f = fresnel(th, 1.0, n2);
+      EXPECT_NEAR(f.r_s + f.t_s, 1.0, 1e-12) << k;
+      EXPECT_NEAR(f.r_p + f.t_p, 1.0, 1e-12) << k;
+      EXPECT_GE(f.r_s, f.r_p - 1e-15) << k;  // s reflects at least as much as p
+      const Fresnel g = fresnel(th, n2, 1.0);  // from the dense side, below the critical angle
+      if (!g.total_internal_reflection) {
+        EXPECT_NEAR(g.r_s + g.t_s, 1.0, 1e-12) << k;
+      }
+    }
+  }
+}
+
+TEST(Optics, GrazingIncidenceReflectsEverything) {
+  EXPECT_NEAR(reflectance(kPi / 2), 1.0, 1e-12);
+  EXPECT_NEAR(transmittance(kPi / 2), 0.0, 1e-12);
+  EXPECT_GT(reflectance(deg2rad(89.0)), 0.9);
+  // Reflectance rises monotonically from the normal to grazing (unpolarised, s).
+  double last = 0.0;
+  for (int k = 0; k <= 90; ++k) {
+    const Fresnel f = fresnel(deg2rad(k));
+    EXPECT_GE(f.r_s, last);
+    last = f.r_s;
+  }
+  // Paper's reading of Fig. 4: at 76 degrees about 30% (unpolarised) is reflected.
+  EXPECT_NEAR(reflectance(deg2rad(76.0)), 0.30, 0.05);
+}
+
+TEST(Optics, BrewsterAngleKillsPPolarisedReflection) {
+  const double b = brewsterAngle(1.0, 1.5);
+  EXPECT_NEAR(b, std::atan(1.5), 1e-15);
+  EXPECT_NEAR(rad2deg(b), 56.31, 0.01);
+  EXPECT_NEAR(fresnel(b).r_p, 0.0, 1e-15);
+  EXPECT_GT(fresnel(b).r_s, 0.1);
+  EXPECT_GT(fresnel(b - 0.1).r_p, 1e-4);
+}
+
+TEST(Optics, SnellAndTotalInternalReflection) {
+  const auto t = refractionAngle(deg2rad(30.0), 1.0, 1.5);
+  ASSERT_TRUE(t.has_value());
+  EXPECT_NEAR(std::sin(*t), 0.5 / 1.5, 1e-15);
+  const double c = criticalAngle(1.5, 1.0);
+  EXPECT_NEAR(c, std::asin(1.0 / 1.5), 1e-15);
+  EXPECT_TRUE(refractionAngle(c - 1e-9, 1.5, 1.0).has_value());
+  EXPECT_FALSE(refractionAngle(c + 1e-9, 1.5, 1.0).has_value());
+  const Fresnel inside = fresnel(c + 0.01, 1.5, 1.0);
+  EXPECT_TRUE(inside.total_internal_reflection);
+  EXPECT_EQ(inside.reflectance(), 1.0);
+  EXPECT_EQ(inside.transmittance(), 0.0);
+  // Just below the critical angle reflection is already strong, and reaches 1 at it.
+  EXPECT_GT(fresnel(c - 1e-6, 1.5, 1.0).reflectance(), 0.95);
+  EXPECT_EQ(criticalAngle(1.0, 1.5), kPi / 2);  // never from the thin side
+}
+
+TEST(Optics, ElongationGrowsWithThicknessZeroWithout) {
+  EXPECT_EQ(paneRangeElongation(0.0, 0.3), 0.0);
+  EXPECT_EQ(paneOpticalExcess(0.0, 0.3), 0.0);
+  EXPECT_NEAR(paneRangeElongation(0.08, 0.0), 0.08 * 0.5, 1e-15);  // t (n - 1)
+  EXPECT_NEAR(paneOpticalExcess(0.08, 0.0), 0.04, 1e-15);
+  for (int k = 0; k < 89; k += 4) {
+    const double th = deg2rad(k);
+    if (th < brewsterAngle()) {
+      EXPECT_GT(paneRangeElongation(0.02, th), paneRangeElongation(0.01, th)) << k;
+    }
+    EXPECT_NEAR(paneRangeElongation(0.02, th), 2 * paneRangeElongation(0.01, th), 1e-15) << k;
+    // The excess over the real (bent) path grows with angle too ...
+    EXPECT_GT(paneOpticalExcess(0.01, th + deg2rad(4)), paneOpticalExcess(0.01, th)) << k;
+    // ... while the elongation over a straight map ray falls with angle (the bent path is shorter).
+    EXPECT_LT(paneRangeElongation(0.01, th + deg2rad(4)), paneRangeElongation(0.01, th)) << k;
+  }
+  EXPECT_NEAR(paneRangeElongation(0.01, brewsterAngle()), 0.0, 1e-15);
+  EXPECT_EQ(paneLateralShift(0.01, 0.0), 0.0);
+  EXPECT_GT(paneLateralShift(0.01, 0.5), 0.0);
+}
+
+// A beam through a pane, traced face by face with the ray caster, reads longer than the straight
+// map ray to the wall behind by exactly the elongation.
+TEST(Optics, RayThroughPaneIsLongerByTheElongation) {
+  const double t = 0.08, n = 1.5;
+  VectorMap map;
+  map.segments.push_back(seg(5, -60, 5, 60, Material::Glass, t));  // entry face x = 5
+  map.segments.push_back(seg(12, -80, 12, 80));                     // wall parallel to it
+  const RayCaster caster(map);
+  for (int k = -80; k <= 80; k += 5) {
+    const double th = deg2rad(k);
+    const Vec2 dir(std::cos(th), std::sin(th));
+    const RayHit pane = caster.cast(Vec2(0, 0), dir, 100.0);
+    ASSERT_EQ(pane.segment, 0) << k;
+    EXPECT_NEAR(pane.incidence, std::abs(th), 1e-12);
+    const Vec2 entry = pane.range * dir;
+    const PaneCrossing crossing = crossPane(entry, dir, Vec2(-1, 0), t, n);
+    EXPECT_NEAR(crossing.exit.x(), 5 + t, 1e-12);
+    EXPECT_NEAR(crossing.geometric_length, paneGlassPath(t, th, n), 1e-12);
+    const RayHit after = caster.cast(crossing.exit, dir, 100.0, 0);
+    ASSERT_EQ(after.segment, 1) << k;
+    const double reported = pane.range + crossing.optical_length + after.range;
+    const double d_real = caster.cast(Vec2(0, 0), dir, 100.0, 0).range;  // ignores the glass
+    EXPECT_NEAR(reported - d_real, paneRangeElongation(t, th, n), 1e-12) << k;
+    // Against the path the light really took the excess is (n - 1) t / cos(theta_t).
+    const double real_path = pane.range + crossing.geometric_length + after.range;
+    EXPECT_NEAR(reported - real_path, paneOpticalExcess(t, th, n), 1e-12) << k;
+    // The exit point is shifted sideways off the straight ray by the lateral shift.
+    const double off_line = std::abs(dir.x() * crossing.exit.y() - dir.y() * crossing.exit.x());
+    EXPECT_NEAR(off_line, paneLateralShift(t, th, n), 1e-12) << k;
   }
 }
