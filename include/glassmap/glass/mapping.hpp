@@ -1,0 +1,61 @@
+#pragma once
+/// The grid glass-mapping pipeline as one library call: log -> counts -> per-angle statistics ->
+/// cell evidence. Later stages (MRF, vectorisation) refine the returned CellEvidence.
+
+#include <string>
+
+#include "glassmap/glass/classifiers.hpp"
+#include "glassmap/glass/evidence.hpp"
+#include "glassmap/grid/scan_integration.hpp"
+
+namespace glassmap::glass {
+
+/// Cell classifier. (The MRF refinement runs on Direct's evidence; see tools/cmd_map.cpp.)
+enum class Method { Heuristic, Direct };
+
+/// "heuristic" / "direct".
+const char* toString(Method m);
+/// Parses "heuristic" / "direct"; throws Error otherwise.
+Method parseMethod(const std::string& name);
+
+/// Everything mapLog needs.
+struct MappingOptions {
+  double resolution = 0.05;          ///< cell size [m]
+  double angle_bin_deg = 5.0;        ///< incidence-angle bin width [deg]; must divide 180
+  double margin = 1.0;               ///< grid margin around what was seen [m]
+  Method method = Method::Direct;
+  grid::BeamOptions beams;
+  grid::OccupancyModel occupancy;
+  HeuristicOptions heuristic;
+  DirectOptions direct;
+};
+
+/// What mapLog did: counts, sizes, times.
+struct MappingStats {
+  std::size_t scans = 0;              ///< scans integrated
+  std::size_t beams = 0;              ///< beams traversed (per pass)
+  std::size_t hit_beams = 0;          ///< beams that ended in a hit
+  std::size_t cells_traversed = 0;    ///< cell visits of the occupancy pass
+  std::size_t observed_cells = 0;     ///< cells some beam touched
+  std::size_t candidate_cells = 0;    ///< cells with per-angle histograms (some beam ended there)
+  std::size_t glass_cells = 0;        ///< cells labelled glass
+  std::size_t occupied_cells = 0;     ///< cells labelled OCC
+  std::size_t state_bytes = 0;        ///< counts + histograms + sigmoid sums [bytes]
+  double bytes_per_observed_cell = 0.0;  ///< state_bytes / observed_cells
+  double seconds_counts = 0.0;        ///< occupancy pass [s]
+  double seconds_angles = 0.0;        ///< per-angle (and sigmoid) pass [s]
+  double seconds_classify = 0.0;      ///< classification [s]
+};
+
+/// The outcome of mapping one log.
+struct MappingResult {
+  CellEvidence evidence;  ///< labels + costs (what mrf/ consumes)
+  MappingStats stats;
+};
+
+/// Maps a log: grid from the laser poses and beams, occupancy pass, per-angle pass, classifier.
+/// progress(stage, fraction) reports "counts"/"angles" passes in [0, 1].
+MappingResult mapLog(const LaserLog& log, const MappingOptions& options,
+                     const std::function<void(const char* stage, double fraction)>& progress = {});
+
+}  // namespace glassmap::glass

@@ -1,0 +1,234 @@
+#include "glassmap/glass/classifiers.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "glassmap/core/error.hpp"
+#include "glassmap/grid/traversal.hpp"
+
+namespace glassmap::glass {
+namespace {
+
+using grid::AngleHistograms;
+
+// log(1 + exp(x)) without overflow.
+double softplus(double x) { return x > 30.0 ? x : std::log1p(std::exp(x)); }
+
+// Evidence with labels of all observed cells: EMP where touched, unknown elsewhere.
+CellEvidence baseEvidence(const grid::HitMissGrid& counts, const AngleHistograms& hist) {
+  CellEvidence e;
+  e.geometry = counts.geometry();
+  e.bins = hist.bins();
+  e.num_labels = numLabels(e.bins);
+  e.label.assign(e.geometry.cells(), kUnknown);
+  const auto& g = e.geometry;
+  constexpr int T = grid::HitMissGrid::kTileSize;
+  for (int ty = 0; ty < g.height; ty += T) {
+    for (int tx = 0; tx < g.width; tx += T) {
+      if (!counts.tileAllocated(tx, ty)) continue;
+      for (int y = ty; y < std::min(ty + T, g.height); ++y) {
+        for (int x = tx; x < std::min(tx + T, g.width); ++x) {
+          const grid::CellCounts c = counts.get(x, y);
+          if ((c.hits | c.misses) != 0) e.label[g.index(x, y)] = kEmpty;
+        }
+      }
+    }
+  }
+  // Candidates in ascending cell order.
+  std::vector<std::pair<std::uint32_t, std::int32_t>> order(hist.size());
+  for (std::size_t i = 0; i < hist.size(); ++i) order[i] = {hist.cell(static_cast<std::int32_t>(i)), static_cast<std::int32_t>(i)};
+  std::sort(order.begin(), order.end());
+  e.cells.resize(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) e.cells[i] = order[i].first;
+  e.cost.assign(order.size() * static_cast<std::size_t>(e.num_labels), 0.0f);
+  return e;
+}
+
+// Candidate id (histogram index) for each evidence row, in e.cells order.
+std::vector<std::int32_t> histogramIds(const CellEvidence& e, const AngleHistograms& hist) {
+  std::vector<std::int32_t> ids(e.cells.size());
+  for (std::size_t i = 0; i < e.cells.size(); ++i) {
+    const auto c = e.geometry.cellOf(e.cells[i]);
+    ids[i] = hist.find(c.x, c.y);
+  }
+  return ids;
+}
+
+// Converts log-likelihoods (+ log priors) of one cell into capped negative log posteriors.
+void normalise(const std::vector<double>& ll, float* cost) {
+  const double mx = *std::max_element(ll.begin(), ll.end());
+  double z = 0.0;
+  for (double v : ll) z += std::exp(v - mx);
+  const double log_z = mx + std::log(z);
+  for (std::size_t l = 0; l < ll.size(); ++l) {
+    cost[l] = static_cast<float>(std::min<double>(CellEvidence::kMaxCost, log_z - ll[l]));
+  }
+}
+
+}  // namespace
+
+std::vector<double> directLobe(int bins, const DirectOptions& o) {
+  // Average of peak * exp(-theta^2 / 2 sigma^2) over the bin's incidence range, by quadrature.
+  const double width = 180.0 / bins;
+  const double s2 = 2.0 * o.direct_sigma_deg * o.direct_sigma_deg;
+  std::vector<double> lobe(static_cast<std::size_t>(bins / 2 + 1));
+  constexpr int kSamples = 64;
+  for (std::size_t d = 0; d < lobe.size(); ++d) {
+    double sum = 0.0;
+    for (int i = 0; i < kSamples; ++i) {
+      const double theta = (static_cast<double>(d) - 0.5 + (i + 0.5) / kSamples) * width;
+      sum += std::exp(-theta * theta / s2);
+    }
+    lobe[d] = std::clamp(o.direct_peak * sum / kSamples, o.lobe_floor, 1.0 - 1e-6);
+  }
+  return lobe;
+}
+
+SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams,
+                             const grid::HitMissGrid& counts, const grid::OccupancyModel& occ,
+                             const AngleHistograms& hist, const DirectOptions& o,
+                             grid::IntegrationStats* stats) {
+  SigmoidSums sums;
+  sums.log_occ.assign(hist.size(), 0.0f);
+  sums.log_glass.assign(hist.size(), 0.0f);
+  const grid::GridGeometry& g = counts.geometry();
+  const double res = g.resolution;
+  // Occupied test on counts: hits * l_hit + misses * l_miss > l_occupied (clamping cannot change it
+  // while l_min < l_occupied < l_max).
+  auto occupied = [&](int x, int y) {
+    const grid::CellCounts c = counts.get(x, y);
+    return c.hits != 0 && c.hits * occ.l_hit + c.misses * occ.l_miss > occ.l_occupied;
+  };
+  grid::IntegrationStats st;
+  for (const LaserScan& scan : log.scans) {
+    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
+      ++st.beams;
+      if (!beam.hit) return;
+      ++st.hit_beams;
+      const grid::CellIndex end = g.cellAt(beam.to);
+      if (!g.contains(end)) return;
+      const std::int32_t id = hist.find(end.x, end.y);
+      if (id == AngleHistograms::kNone) return;
+      // d_real: distance to the first occupied cell along the beam, the beam continued past its
+      // reading through the occupancy map (where glass is mostly invisible).
+      double d_real = std::numeric_limits<double>::infinity();
+      st.cells_traversed += grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool) {
+        if (!occupied(x, y)) return true;
+        d_real = t * beam.range;
+        return false;
+      });
+      const double search = o.search_cells * res;
+      if (!std::isfinite(d_real)) {
+        const Vec2 dir = (beam.to - beam.from) / beam.range;
+        const Vec2 far = beam.to + search * dir;
+        bool first = true;
+        st.cells_traversed += grid::traverse(g, beam.to, far, [&](int x, int y, double t, bool) {
+          if (first) { first = false; return true; }  // the reading's own cell was checked above
+          if (!occupied(x, y)) return true;
+          d_real = beam.range + t * search;
+          return false;
+        });
+        if (!std::isfinite(d_real)) d_real = beam.range + search;
+      }
+      // Paper 2.5.4: P_occ^t = 1 / (1 + exp(d_real - d_range - delta)), distances in cells.
+      const double x = (d_real - beam.range) / res - o.sigmoid_margin;
+      const double log_p_occ = -softplus(x);       // log P_occ^t
+      const double log_1m_p_occ = -softplus(-x);   // log (1 - P_occ^t)
+      sums.log_occ[id] += static_cast<float>(std::log(o.p_hit_occ * std::exp(log_p_occ) + o.occ_hit_floor));
+      sums.log_glass[id] += static_cast<float>(log_1m_p_occ);
+    });
+    ++st.scans;
+  }
+  if (stats) *stats = st;
+  return sums;
+}
+
+CellEvidence classifyHeuristic(const grid::HitMissGrid& counts, const AngleHistograms& hist,
+                               const HeuristicOptions& o) {
+  CellEvidence e = baseEvidence(counts, hist);
+  const auto ids = histogramIds(e, hist);
+  const int bins = e.bins;
+  for (std::size_t i = 0; i < e.cells.size(); ++i) {
+    const std::uint16_t* h = hist.hits(ids[i]);
+    const std::uint16_t* m = hist.misses(ids[i]);
+    int total_h = 0, total_m = 0;
+    for (int b = 0; b < bins; ++b) { total_h += h[b]; total_m += m[b]; }
+    // Window of three bins with the most hits.
+    int best = 0, best_h = -1;
+    for (int k = 0; k < bins; ++k) {
+      const int wh = h[(k + bins - 1) % bins] + h[k] + h[(k + 1) % bins];
+      if (wh > best_h || (wh == best_h && h[k] > h[best])) { best_h = wh; best = k; }
+    }
+    const int wm = m[(best + bins - 1) % bins] + m[best] + m[(best + 1) % bins];
+    const int oh = total_h - best_h, om = total_m - wm;
+    const bool glass = best_h >= o.min_hits &&
+                       best_h >= o.min_window_hit_ratio * (best_h + wm) &&
+                       om >= o.min_other_misses &&
+                       oh <= o.max_other_hit_ratio * (oh + om);
+    int label = kEmpty;
+    if (glass) {
+      label = glassLabel(best);
+    } else if (total_h >= o.occupied_hit_ratio * (total_h + total_m)) {
+      label = kOccupied;
+    }
+    e.label[e.cells[i]] = static_cast<std::uint8_t>(label);
+    float* c = &e.cost[i * static_cast<std::size_t>(e.num_labels)];
+    std::fill(c, c + e.num_labels, static_cast<float>(o.cost_other));
+    c[label] = 0.0f;
+  }
+  return e;
+}
+
+CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistograms& hist,
+                            const SigmoidSums& sums, const DirectOptions& o) {
+  if (!(o.prior_glass > 0.0 && o.prior_occupied > 0.0 && o.prior_glass + o.prior_occupied < 1.0)) {
+    throw Error("priors must be positive and sum below 1", {}, 0, "prior_glass/prior_occupied");
+  }
+  CellEvidence e = baseEvidence(counts, hist);
+  const auto ids = histogramIds(e, hist);
+  const int bins = e.bins;
+  const std::vector<double> lobe = directLobe(bins, o);
+  std::vector<double> log_hit(lobe.size()), log_miss(lobe.size());
+  for (std::size_t d = 0; d < lobe.size(); ++d) {
+    log_hit[d] = std::log(lobe[d]);
+    log_miss[d] = std::log1p(-lobe[d]);
+  }
+  const double lp_glass = std::log(o.prior_glass / bins), lp_occ = std::log(o.prior_occupied);
+  const double lp_emp = std::log(1.0 - o.prior_glass - o.prior_occupied);
+  const double lh_emp = std::log(o.p_hit_emp), lm_emp = std::log1p(-o.p_hit_emp);
+  const double lm_occ = std::log1p(-o.p_hit_occ);
+  std::vector<double> ll(static_cast<std::size_t>(e.num_labels));
+  std::vector<int> active;
+  for (std::size_t i = 0; i < e.cells.size(); ++i) {
+    const std::int32_t id = ids[i];
+    const std::uint16_t* h = hist.hits(id);
+    const std::uint16_t* m = hist.misses(id);
+    double total_h = 0, total_m = 0;
+    active.clear();
+    for (int b = 0; b < bins; ++b) {
+      total_h += h[b];
+      total_m += m[b];
+      if (h[b] | m[b]) active.push_back(b);
+    }
+    ll[kEmpty] = lp_emp + total_h * lh_emp + total_m * lm_emp;
+    ll[kOccupied] = lp_occ + sums.log_occ[id] + total_m * lm_occ;
+    for (int k = 0; k < bins; ++k) {
+      double v = lp_glass + sums.log_glass[id];
+      for (int b : active) {
+        int d = std::abs(b - k);
+        d = std::min(d, bins - d);
+        v += h[b] * log_hit[d] + m[b] * log_miss[d];
+      }
+      ll[glassLabel(k)] = v;
+    }
+    if (total_h < o.min_glass_hits) {  // too little evidence for glass: EMP or OCC only
+      for (int k = 0; k < bins; ++k) ll[glassLabel(k)] = -std::numeric_limits<double>::infinity();
+    }
+    normalise(ll, &e.cost[i * static_cast<std::size_t>(e.num_labels)]);
+  }
+  labelByMinimumCost(e);
+  return e;
+}
+
+}  // namespace glassmap::glass
