@@ -25,6 +25,7 @@ struct LaserScan {
   Pose2 laser_pose;             ///< laser pose in the map frame, SLAM-corrected where the log has it
   Pose2 odom_pose;              ///< robot odometry pose (odometry frame)
   bool has_odom = false;        ///< odom_pose was present on the line
+  bool has_laser_pose = true;   ///< laser_pose was present on the line (RAWLASERn lines have none)
   int laser_id = 1;             ///< CARMEN laser number (FLASER = 1, RLASER = 2, RAWLASERn = n)
 
   /// Angle of beam i in the laser frame [rad].
@@ -56,6 +57,10 @@ struct LogReadStats {
   std::map<std::string, std::size_t> skipped_by_type;  ///< unknown line types and their counts
   std::size_t comment_lines = 0;    ///< '#' and empty lines
   std::size_t no_return_ranges = 0; ///< non-finite or negative ranges turned into kNoReturn
+  std::size_t odometry = 0;         ///< ODOM records
+  std::size_t true_poses = 0;       ///< TRUEPOS records
+  std::size_t params = 0;           ///< PARAM records
+  std::size_t filtered_scans = 0;   ///< scans dropped by a reader option (laser_id)
 };
 
 /// A whole log in memory.

@@ -1,0 +1,43 @@
+#pragma once
+/// Floorplans (wall and glass line segments) in the formats GIS and CAD tools read, through GDAL/OGR.
+///
+/// Attributes per line: material (wall|glass), thickness [m], pane_angle [rad], support, evidence.
+/// Coordinates are local metres on one floor. GeoJSON cannot carry a local CRS (GDAL drops it):
+/// a GeoJSON floorplan is read and written as local metres. DXF carries the material in the layer
+/// (WALL, GLASS) and the other attributes in the entity's XDATA (application GLASSMAP).
+
+#include <filesystem>
+#include <string_view>
+
+#include "glassmap/geometry/vector_map.hpp"
+
+namespace glassmap {
+
+/// Output formats of writeFloorplan.
+enum class FloorplanFormat { Gpkg, GeoJson, Shapefile, FlatGeobuf, Dxf };
+
+/// Format from the extension: .gpkg, .geojson/.json, .shp, .fgb, .dxf (case-insensitive);
+/// throws Error for any other.
+FloorplanFormat floorplanFormatFromPath(const std::filesystem::path& path);
+
+/// GDAL driver name of a format ("GPKG", "GeoJSON", "ESRI Shapefile", "FlatGeobuf", "DXF").
+std::string_view gdalDriverName(FloorplanFormat format);
+
+/// Reads every line of any OGR vector source: LineString, MultiLineString and polygon rings;
+/// a polyline becomes its consecutive segments. Material from the `material` field, else from a
+/// `Layer` field (DXF) or the OGR layer name: containing "GLASS" (any case) means glass, else wall.
+/// Thickness from the `thickness` field (or DXF XDATA), default 0.1 m. Coordinates in a CRS with
+/// other linear units are scaled to metres; geographic (degree) coordinates are an Error.
+VectorMap readFloorplan(const std::filesystem::path& path);
+
+/// Writes one line feature per segment in the format of the extension, atomically: GPKG with a
+/// local engineering CRS in metres, GeoJSON (no CRS: local metres), ESRI Shapefile (.shp, .shx,
+/// .dbf, .prj, .cpg written in a temporary folder, then moved into place), FlatGeobuf (no spatial
+/// index, so features keep their order), DXF (layers WALL and GLASS in distinct colours, header
+/// $INSUNITS 6 = metres and $MEASUREMENT 1 = metric).
+void writeFloorplan(const std::filesystem::path& path, const VectorMap& map);
+
+/// WKT of the local engineering CRS written into GPKG, Shapefile and FlatGeobuf outputs.
+std::string_view localMetricCrsWkt();
+
+}  // namespace glassmap

@@ -1,0 +1,178 @@
+#include "dxf_text.hpp"
+
+#include <cpl_conv.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "glassmap/core/error.hpp"
+#include "text_parse.hpp"
+
+namespace glassmap::io_detail {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// One DXF group: code line and value line, both kept as written.
+struct Group {
+  std::string code, value;
+  int number() const { return std::atoi(code.c_str()); }
+  bool is(int c, std::string_view v) const { return number() == c && value == v; }
+};
+
+std::string trimCr(std::string s) {
+  while (!s.empty() && (s.back() == '\r' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+std::vector<Group> readGroups(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot open DXF", path.string());
+  std::vector<Group> groups;
+  std::string code, value;
+  while (std::getline(in, code)) {
+    if (!std::getline(in, value)) {
+      if (trimCr(code).empty()) break;
+      throw Error("DXF ends inside a group", path.string());
+    }
+    groups.push_back({trimCr(code), trimCr(value)});
+  }
+  return groups;
+}
+
+void writeGroups(const fs::path& path, const std::vector<Group>& groups) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw Error("cannot write DXF", path.string());
+  for (const Group& g : groups) out << g.code << '\n' << g.value << '\n';
+  out.flush();
+  if (!out) throw Error("write failed (disk full?)", path.string());
+}
+
+Group group(int code, std::string value) {
+  std::string c = std::to_string(code);
+  if (c.size() < 3) c.insert(0, 3 - c.size(), ' ');
+  return {c, std::move(value)};
+}
+
+/// Sets the value of header variable `name` (the group after it), adding it before ENDSEC if absent.
+void setHeaderVar(std::vector<Group>& g, const std::string& name, int code, const std::string& value) {
+  for (std::size_t i = 0; i + 1 < g.size(); ++i) {
+    if (g[i].is(9, name)) {
+      g[i + 1].value = value;
+      return;
+    }
+  }
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    if (g[i].is(0, "ENDSEC")) {
+      g.insert(g.begin() + static_cast<std::ptrdiff_t>(i), {group(9, name), group(code, value)});
+      return;
+    }
+  }
+  throw Error("DXF header template has no HEADER section");
+}
+
+/// Inserts records at the end of table `table` and raises its entry count.
+void addToTable(std::vector<Group>& g, const std::string& table, const std::vector<Group>& records, int n) {
+  for (std::size_t i = 0; i + 1 < g.size(); ++i) {
+    if (!(g[i].is(0, "TABLE") && g[i + 1].is(2, table))) continue;
+    std::size_t j = i + 2;
+    for (; j < g.size() && g[j].number() != 0; ++j) {
+      if (g[j].number() == 70) g[j].value = std::to_string(std::atoi(g[j].value.c_str()) + n);
+    }
+    for (; j < g.size() && !g[j].is(0, "ENDTAB"); ++j) {}
+    g.insert(g.begin() + static_cast<std::ptrdiff_t>(j), records.begin(), records.end());
+    return;
+  }
+  throw Error("DXF header template has no " + table + " table");
+}
+
+std::string tableHandle(const std::vector<Group>& g, const std::string& table) {
+  for (std::size_t i = 0; i + 2 < g.size(); ++i)
+    if (g[i].is(0, "TABLE") && g[i + 1].is(2, table) && g[i + 2].number() == 5) return g[i + 2].value;
+  return "0";
+}
+
+}  // namespace
+
+void writeDxfHeaderTemplate(const fs::path& path) {
+  const char* found = CPLFindFile("GDAL", "header.dxf");
+  if (!found) throw Error("GDAL's DXF header template header.dxf not found (is GDAL_DATA set?)");
+  std::vector<Group> g = readGroups(found);
+  setHeaderVar(g, "$INSUNITS", 70, "     6");    // metres
+  setHeaderVar(g, "$MEASUREMENT", 70, "     1");  // metric
+
+  std::set<unsigned long> used;
+  for (const Group& x : g)
+    if (x.number() == 5 || x.number() == 105) used.insert(std::strtoul(x.value.c_str(), nullptr, 16));
+  unsigned long next = 0x1000;
+  auto handle = [&] {
+    while (used.count(next)) ++next;
+    used.insert(next);
+    std::ostringstream s;
+    s << std::uppercase << std::hex << next;
+    return s.str();
+  };
+  const std::string layer_table = tableHandle(g, "LAYER");
+  auto layer = [&](const std::string& name, int colour) {
+    return std::vector<Group>{group(0, "LAYER"), group(5, handle()), group(330, layer_table),
+                              group(100, "AcDbSymbolTableRecord"), group(100, "AcDbLayerTableRecord"),
+                              group(2, name), group(70, "     0"), group(62, "     " + std::to_string(colour)),
+                              group(6, "Continuous"), group(370, "    -3"), group(390, "F")};
+  };
+  std::vector<Group> layers = layer("WALL", 7);
+  const std::vector<Group> glass = layer("GLASS", 4);
+  layers.insert(layers.end(), glass.begin(), glass.end());
+  addToTable(g, "LAYER", layers, 2);
+  const std::vector<Group> app{group(0, "APPID"), group(5, handle()), group(330, tableHandle(g, "APPID")),
+                               group(100, "AcDbSymbolTableRecord"), group(100, "AcDbRegAppTableRecord"),
+                               group(2, "GLASSMAP"), group(70, "     0")};
+  addToTable(g, "APPID", app, 1);
+  writeGroups(path, g);
+}
+
+void addDxfXData(const fs::path& dxf, const VectorMap& map) {
+  std::vector<Group> g = readGroups(dxf);
+  std::vector<Group> out;
+  out.reserve(g.size() + map.segments.size() * 7);
+  bool in_entities = false;
+  std::size_t entity = 0;
+  bool in_line = false;
+  auto flush = [&] {
+    if (!in_line) return;
+    if (entity >= map.segments.size()) throw Error("GDAL wrote more DXF entities than segments", dxf.string());
+    const MapSegment& s = map.segments[entity++];
+    auto kv = [](const char* key, auto v) {
+      std::string text = std::string(key) + "=";
+      appendNumber(text, v);
+      return group(1000, text);
+    };
+    out.push_back(group(1001, "GLASSMAP"));
+    out.push_back(group(1000, "material=" + std::string(toString(s.material))));
+    out.push_back(kv("thickness", s.thickness));
+    out.push_back(kv("pane_angle", s.pane_angle));
+    out.push_back(kv("support", s.support));
+    out.push_back(kv("evidence", s.evidence));
+    in_line = false;
+  };
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const Group& x = g[i];
+    if (x.number() == 0) {
+      flush();
+      if (x.value == "ENDSEC") in_entities = false;
+      else if (in_entities) in_line = x.value == "LWPOLYLINE" || x.value == "LINE";
+    }
+    if (x.is(2, "ENTITIES") && i > 0 && g[i - 1].is(0, "SECTION")) in_entities = true;
+    out.push_back(x);
+  }
+  if (entity != map.segments.size())
+    throw Error("GDAL wrote " + std::to_string(entity) + " DXF line entities for " +
+                    std::to_string(map.segments.size()) + " segments",
+                dxf.string());
+  writeGroups(dxf, out);
+}
+
+}  // namespace glassmap::io_detail

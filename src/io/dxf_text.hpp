@@ -1,0 +1,19 @@
+#pragma once
+// Private DXF text helpers: the header template handed to GDAL's DXF writer, and the XDATA that
+// carries segment attributes GDAL's writer has no place for.
+
+#include <filesystem>
+
+#include "glassmap/geometry/vector_map.hpp"
+
+namespace glassmap::io_detail {
+
+/// Writes GDAL's default DXF header with $INSUNITS 6 (metres), $MEASUREMENT 1 (metric), layers
+/// WALL (colour 7, white/black) and GLASS (colour 4, cyan) and the XDATA application GLASSMAP.
+void writeDxfHeaderTemplate(const std::filesystem::path& path);
+
+/// Appends XDATA (application GLASSMAP: material, thickness, pane_angle, support, evidence) to
+/// the i-th line entity of a DXF written by GDAL from map.segments[i].
+void addDxfXData(const std::filesystem::path& dxf, const VectorMap& map);
+
+}  // namespace glassmap::io_detail

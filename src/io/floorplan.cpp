@@ -1,0 +1,357 @@
+#include "glassmap/io/floorplan.hpp"
+
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <string>
+#include <system_error>
+
+#include "dxf_text.hpp"
+#include "gdal_util.hpp"
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
+#include "text_parse.hpp"
+
+namespace glassmap {
+
+namespace fs = std::filesystem;
+using io_detail::GdalErrorCollector;
+
+namespace {
+
+constexpr double kDefaultThickness = 0.1;  // [m]
+constexpr const char* kLayerName = "floorplan";
+
+constexpr std::string_view kLocalWkt =
+    R"wkt(LOCAL_CS["glassmap local frame (metres)",LOCAL_DATUM["glassmap floor",0],UNIT["metre",1,AUTHORITY["EPSG","9001"]],AXIS["X",EAST],AXIS["Y",NORTH]])wkt";
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return out;
+}
+
+bool containsGlass(std::string_view s) { return lower(s).find("glass") != std::string::npos; }
+
+/// Scoped thread-local GDAL configuration option.
+class ScopedConfig {
+ public:
+  ScopedConfig(const char* key, const char* value) : key_(key) {
+    const char* old = CPLGetThreadLocalConfigOption(key, nullptr);
+    if (old) old_ = old, had_ = true;
+    CPLSetThreadLocalConfigOption(key, value);
+  }
+  ~ScopedConfig() { CPLSetThreadLocalConfigOption(key_, had_ ? old_.c_str() : nullptr); }
+  ScopedConfig(const ScopedConfig&) = delete;
+  ScopedConfig& operator=(const ScopedConfig&) = delete;
+
+ private:
+  const char* key_;
+  std::string old_;
+  bool had_ = false;
+};
+
+struct FeatureAttrs {
+  Material material = Material::Wall;
+  double thickness = kDefaultThickness;
+  double pane_angle = 0.0;
+  std::uint32_t support = 0;
+  double evidence = 0.0;
+};
+
+/// Collects the segments of a geometry (lines, polygon rings, collections) in metres.
+void addSegments(const OGRGeometry* g, double to_m, const FeatureAttrs& a, VectorMap& out, std::size_t& skipped) {
+  if (!g || g->IsEmpty()) return;
+  const OGRwkbGeometryType type = wkbFlatten(g->getGeometryType());
+  if (type == wkbLineString || type == wkbLinearRing || type == wkbCircularString || type == wkbCompoundCurve) {
+    std::unique_ptr<OGRLineString> owned;
+    const OGRLineString* ls = nullptr;
+    if (type == wkbLineString || type == wkbLinearRing) {
+      ls = g->toLineString();
+    } else {
+      owned.reset(g->toCurve()->CurveToLine());
+      ls = owned.get();
+    }
+    for (int i = 0; i + 1 < ls->getNumPoints(); ++i) {
+      MapSegment s;
+      s.a = Vec2(ls->getX(i), ls->getY(i)) * to_m;
+      s.b = Vec2(ls->getX(i + 1), ls->getY(i + 1)) * to_m;
+      if (s.a == s.b) continue;  // repeated vertex
+      s.material = a.material;
+      s.thickness = a.thickness;
+      s.pane_angle = a.pane_angle;
+      s.support = a.support;
+      s.evidence = a.evidence;
+      out.segments.push_back(s);
+    }
+  } else if (type == wkbPolygon || type == wkbCurvePolygon) {
+    const OGRCurvePolygon* poly = g->toCurvePolygon();
+    addSegments(poly->getExteriorRingCurve(), to_m, a, out, skipped);
+    for (int i = 0; i < poly->getNumInteriorRings(); ++i) addSegments(poly->getInteriorRingCurve(i), to_m, a, out, skipped);
+  } else if (OGR_GT_IsSubClassOf(type, wkbGeometryCollection)) {
+    const OGRGeometryCollection* c = g->toGeometryCollection();
+    for (int i = 0; i < c->getNumGeometries(); ++i) addSegments(c->getGeometryRef(i), to_m, a, out, skipped);
+  } else {
+    ++skipped;  // points, text, ...
+  }
+}
+
+/// Reads "key=value" pairs from DXF XDATA of application GLASSMAP (RawCodeValues field).
+void readXData(OGRFeature& f, int raw_idx, FeatureAttrs& a, bool& has_thickness, const std::string& file) {
+  if (raw_idx < 0 || !f.IsFieldSetAndNotNull(raw_idx)) return;
+  char** values = f.GetFieldAsStringList(raw_idx);
+  bool ours = false;
+  for (char** v = values; v && *v; ++v) {
+    const std::string_view item(*v);
+    if (item.starts_with("1001 ")) {
+      ours = item.substr(5) == "GLASSMAP";
+      continue;
+    }
+    if (!ours || !item.starts_with("1000 ")) continue;
+    const std::string_view kv = item.substr(5);
+    const auto eq = kv.find('=');
+    if (eq == std::string_view::npos) continue;
+    const std::string_view key = kv.substr(0, eq), val = kv.substr(eq + 1);
+    double num = 0.0;
+    const bool is_num = io_detail::tryParseDouble(val, num);
+    const std::string where = "feature " + std::to_string(f.GetFID()) + " XDATA " + std::string(key);
+    if (key == "thickness") {
+      if (!is_num) throw Error("expected a number, got '" + std::string(val) + "'", file, 0, where);
+      a.thickness = num;
+      has_thickness = true;
+    } else if (key == "pane_angle" && is_num) {
+      a.pane_angle = num;
+    } else if (key == "support" && is_num && num >= 0) {
+      a.support = static_cast<std::uint32_t>(num);
+    } else if (key == "evidence" && is_num) {
+      a.evidence = num;
+    }
+  }
+}
+
+}  // namespace
+
+std::string_view localMetricCrsWkt() { return kLocalWkt; }
+
+FloorplanFormat floorplanFormatFromPath(const fs::path& path) {
+  const std::string ext = lower(path.extension().string());
+  if (ext == ".gpkg") return FloorplanFormat::Gpkg;
+  if (ext == ".geojson" || ext == ".json") return FloorplanFormat::GeoJson;
+  if (ext == ".shp") return FloorplanFormat::Shapefile;
+  if (ext == ".fgb") return FloorplanFormat::FlatGeobuf;
+  if (ext == ".dxf") return FloorplanFormat::Dxf;
+  throw Error("unknown floorplan format '" + ext +
+                  "': expected .gpkg, .geojson, .json, .shp, .fgb or .dxf",
+              path.string());
+}
+
+std::string_view gdalDriverName(FloorplanFormat format) {
+  switch (format) {
+    case FloorplanFormat::Gpkg: return "GPKG";
+    case FloorplanFormat::GeoJson: return "GeoJSON";
+    case FloorplanFormat::Shapefile: return "ESRI Shapefile";
+    case FloorplanFormat::FlatGeobuf: return "FlatGeobuf";
+    case FloorplanFormat::Dxf: return "DXF";
+  }
+  return "";
+}
+
+VectorMap readFloorplan(const fs::path& path) {
+  io_detail::ensureGdalRegistered();
+  GdalErrorCollector errors;
+  const std::string file = path.string();
+  if (!fs::exists(path)) throw Error("floorplan file does not exist", file);
+  ScopedConfig raw_codes("DXF_INCLUDE_RAW_CODE_VALUES", "TRUE");
+  GDALDatasetUniquePtr ds(GDALDataset::Open(file.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  if (!ds) throw Error("cannot open as a vector floorplan" + errors.suffix(), file);
+  VectorMap map;
+  map.name = path.stem().string();
+  std::size_t skipped = 0;
+  for (OGRLayer* layer : ds->GetLayers()) {
+    double to_m = 1.0;
+    if (const OGRSpatialReference* srs = layer->GetSpatialRef()) {
+      if (srs->IsGeographic())
+        throw Error("layer '" + std::string(layer->GetName()) +
+                        "' is in geographic coordinates (degrees); a floorplan needs local metres",
+                    file);
+      to_m = srs->GetLinearUnits(nullptr);
+      if (!(to_m > 0.0)) to_m = 1.0;
+    }
+    OGRFeatureDefn* defn = layer->GetLayerDefn();
+    const int material_idx = defn->GetFieldIndex("material");
+    const int thickness_idx = defn->GetFieldIndex("thickness");
+    const int angle_idx = defn->GetFieldIndex("pane_angle");
+    const int support_idx = defn->GetFieldIndex("support");
+    const int evidence_idx = defn->GetFieldIndex("evidence");
+    const int dxf_layer_idx = defn->GetFieldIndex("Layer");
+    const int raw_idx = defn->GetFieldIndex("RawCodeValues");
+    const bool layer_is_glass = containsGlass(layer->GetName());
+    layer->ResetReading();
+    for (auto& f : *layer) {
+      FeatureAttrs a;
+      const std::string where = "feature " + std::to_string(f->GetFID());
+      if (material_idx >= 0 && f->IsFieldSetAndNotNull(material_idx)) {
+        try {
+          a.material = parseMaterial(f->GetFieldAsString(material_idx));
+        } catch (const Error& e) {
+          throw Error(e.message(), file, 0, where + " material");
+        }
+      } else if (dxf_layer_idx >= 0 && f->IsFieldSetAndNotNull(dxf_layer_idx)) {
+        a.material = containsGlass(f->GetFieldAsString(dxf_layer_idx)) ? Material::Glass : Material::Wall;
+      } else {
+        a.material = layer_is_glass ? Material::Glass : Material::Wall;
+      }
+      bool has_thickness = false;
+      if (thickness_idx >= 0 && f->IsFieldSetAndNotNull(thickness_idx)) {
+        a.thickness = f->GetFieldAsDouble(thickness_idx) * to_m;
+        has_thickness = true;
+      }
+      readXData(*f, raw_idx, a, has_thickness, file);
+      if (!std::isfinite(a.thickness) || a.thickness <= 0.0)
+        throw Error("thickness must be a positive number of metres", file, 0, where + " thickness");
+      if (angle_idx >= 0 && f->IsFieldSetAndNotNull(angle_idx)) a.pane_angle = f->GetFieldAsDouble(angle_idx);
+      if (support_idx >= 0 && f->IsFieldSetAndNotNull(support_idx))
+        a.support = static_cast<std::uint32_t>(std::max<GIntBig>(0, f->GetFieldAsInteger64(support_idx)));
+      if (evidence_idx >= 0 && f->IsFieldSetAndNotNull(evidence_idx)) a.evidence = f->GetFieldAsDouble(evidence_idx);
+      addSegments(f->GetGeometryRef(), to_m, a, map, skipped);
+    }
+  }
+  return map;
+}
+
+namespace {
+
+void checkSegments(const VectorMap& map) {
+  for (std::size_t i = 0; i < map.segments.size(); ++i) {
+    const MapSegment& s = map.segments[i];
+    if (!s.a.allFinite() || !s.b.allFinite() || !std::isfinite(s.thickness))
+      throw Error("segment " + std::to_string(i) + " has a non-finite coordinate or thickness");
+  }
+}
+
+/// Writes the features of `map` into a new dataset at `target` with GDAL.
+void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat format,
+                   const fs::path& dxf_header) {
+  GdalErrorCollector errors;
+  const std::string driver_name(gdalDriverName(format));
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name.c_str());
+  if (!driver) throw Error("GDAL has no " + driver_name + " driver", target.string());
+  CPLStringList ds_options;
+  if (format == FloorplanFormat::Dxf) ds_options.SetNameValue("HEADER", dxf_header.string().c_str());
+  GDALDatasetUniquePtr ds(driver->Create(target.string().c_str(), 0, 0, 0, GDT_Unknown, ds_options.List()));
+  if (!ds) throw Error("cannot create " + driver_name + " file" + errors.suffix(), target.string());
+
+  OGRSpatialReference srs;
+  const bool with_crs = format == FloorplanFormat::Gpkg || format == FloorplanFormat::Shapefile ||
+                        format == FloorplanFormat::FlatGeobuf;
+  if (with_crs && srs.importFromWkt(std::string(kLocalWkt).c_str()) != OGRERR_NONE)
+    throw Error("cannot build the local metric CRS" + errors.suffix());
+  CPLStringList layer_options;
+  if (format == FloorplanFormat::FlatGeobuf) layer_options.SetNameValue("SPATIAL_INDEX", "NO");
+  if (format == FloorplanFormat::GeoJson) layer_options.SetNameValue("RFC7946", "NO");
+  if (format == FloorplanFormat::Shapefile) layer_options.SetNameValue("ENCODING", "UTF-8");
+  OGRLayer* layer = ds->CreateLayer(kLayerName, with_crs ? &srs : nullptr, wkbLineString, layer_options.List());
+  if (!layer) throw Error("cannot create layer" + errors.suffix(), target.string());
+
+  if (format != FloorplanFormat::Dxf) {
+    auto field = [&](const char* name, OGRFieldType type, int width = 0) {
+      OGRFieldDefn def(name, type);
+      if (width) def.SetWidth(width);
+      if (layer->CreateField(&def) != OGRERR_NONE)
+        throw Error(std::string("cannot create field ") + name + errors.suffix(), target.string());
+    };
+    field("material", OFTString, 8);
+    field("thickness", OFTReal);
+    field("pane_angle", OFTReal);
+    field("support", OFTInteger64);
+    field("evidence", OFTReal);
+  }
+  OGRFeatureDefn* defn = layer->GetLayerDefn();
+  for (const MapSegment& s : map.segments) {
+    OGRFeatureUniquePtr f(OGRFeature::CreateFeature(defn));
+    if (format == FloorplanFormat::Dxf) {
+      f->SetField("Layer", s.material == Material::Glass ? "GLASS" : "WALL");
+    } else {
+      f->SetField("material", std::string(toString(s.material)).c_str());
+      f->SetField("thickness", s.thickness);
+      f->SetField("pane_angle", s.pane_angle);
+      f->SetField("support", static_cast<GIntBig>(s.support));
+      f->SetField("evidence", s.evidence);
+    }
+    OGRLineString line;
+    line.addPoint(s.a.x(), s.a.y());
+    line.addPoint(s.b.x(), s.b.y());
+    f->SetGeometry(&line);
+    if (layer->CreateFeature(f.get()) != OGRERR_NONE)
+      throw Error("cannot write feature" + errors.suffix(), target.string());
+  }
+  const std::size_t failures_before_close = errors.failures();
+  ds.reset();  // closes the file: GDAL writes indexes and trailers here
+  if (errors.failures() > failures_before_close)
+    throw Error("cannot finish writing" + errors.suffix(), target.string());
+}
+
+void writeShapefile(const fs::path& target, const VectorMap& map) {
+  // A shapefile is several files: build them in a temporary folder, then move each into place,
+  // the .shp last so that a reader never sees a .shp without its sidecars.
+  const fs::path dir = temporarySibling(target.parent_path() / (target.stem().string() + ".dir"));
+  std::error_code ec;
+  fs::create_directory(dir, ec);
+  if (ec) throw Error("cannot create temporary folder: " + ec.message(), dir.string());
+  try {
+    writeWithGdal(dir / target.filename(), map, FloorplanFormat::Shapefile, {});
+    std::vector<fs::path> files;
+    for (const auto& entry : fs::directory_iterator(dir)) files.push_back(entry.path());
+    std::sort(files.begin(), files.end(), [](const fs::path& a, const fs::path& b) {
+      return (lower(a.extension().string()) == ".shp") < (lower(b.extension().string()) == ".shp");
+    });
+    for (const fs::path& f : files) {
+      fs::path dest = target.parent_path() / f.filename();
+      fs::rename(f, dest, ec);
+      if (ec) throw Error("cannot move shapefile part into place: " + ec.message(), dest.string());
+    }
+    fs::remove(dir, ec);
+  } catch (...) {
+    fs::remove_all(dir, ec);
+    throw;
+  }
+}
+
+}  // namespace
+
+void writeFloorplan(const fs::path& path, const VectorMap& map) {
+  const FloorplanFormat format = floorplanFormatFromPath(path);
+  checkSegments(map);
+  io_detail::ensureGdalRegistered();
+  switch (format) {
+    case FloorplanFormat::Shapefile:
+      writeShapefile(path, map);
+      return;
+    case FloorplanFormat::Dxf: {
+      // The header template (metres, layers WALL and GLASS) lives in a temporary file beside the
+      // output; the entities get their attributes as XDATA after GDAL has written them.
+      const fs::path header = temporarySibling(path.parent_path() / (path.stem().string() + "-header.dxf"));
+      struct Remove {
+        fs::path p;
+        ~Remove() {
+          std::error_code ec;
+          fs::remove(p, ec);
+        }
+      } remove_header{header};
+      io_detail::writeDxfHeaderTemplate(header);
+      writeAtomically(path, [&](const fs::path& tmp) {
+        writeWithGdal(tmp, map, format, header);
+        io_detail::addDxfXData(tmp, map);
+      });
+      return;
+    }
+    default:
+      writeAtomically(path, [&](const fs::path& tmp) { writeWithGdal(tmp, map, format, {}); });
+  }
+}
+
+}  // namespace glassmap
