@@ -173,7 +173,11 @@ VectorMap readFloorplan(const fs::path& path) {
   std::size_t skipped = 0;
   for (OGRLayer* layer : ds->GetLayers()) {
     double to_m = 1.0;
-    if (const OGRSpatialReference* srs = layer->GetSpatialRef()) {
+    // GDAL reports every GeoJSON layer as WGS 84 (the RFC 7946 default); a glassmap GeoJSON is
+    // local metres by convention, so its CRS is ignored.
+    const bool is_geojson = EQUAL(ds->GetDriverName(), "GeoJSON") || EQUAL(ds->GetDriverName(), "GeoJSONSeq");
+    const OGRSpatialReference* srs = is_geojson ? nullptr : layer->GetSpatialRef();
+    if (srs) {
       if (srs->IsGeographic())
         throw Error("layer '" + std::string(layer->GetName()) +
                         "' is in geographic coordinates (degrees); a floorplan needs local metres",
