@@ -1,0 +1,77 @@
+#pragma once
+/// Vectorisation: glass and wall cells of a label raster -> line segments (a VectorMap).
+///
+/// Per material: cells are grown into regions (CGAL Shape_detection region growing over cell
+/// centres; the normal of a glass cell is its angle label, of a wall cell the local principal
+/// axis), each region is fitted by least squares (CGAL linear_least_squares_fitting_2), cut where
+/// its cells leave a gap, split while the Bayesian information criterion says two lines explain
+/// the cells better than one, clipped to its cells' extent, and collinear neighbours are merged
+/// across small gaps when the criterion says one line suffices. Walls then get their two faces
+/// merged into a centre line, near-axis segments snapped to the floor's dominant axes (angled
+/// glass stays angled), and corners closed.
+
+#include <cstddef>
+
+#include "glassmap/geometry/vector_map.hpp"
+#include "glassmap/vector/label_grid.hpp"
+
+namespace glassmap::vector {
+
+/// Fitting parameters of one material.
+struct MaterialOptions {
+  double max_distance = 0.08;     ///< region growing: cell centre to region line [m]
+  double max_angle_deg = 20.0;    ///< region growing: cell normal to region normal [deg]
+  double neighbour_radius = 0.11; ///< region growing: cells within this centre distance are neighbours [m]
+  double normal_radius = 0.16;    ///< wall cells: radius of the local principal-axis window [m]
+  std::size_t min_cells = 6;      ///< fewer supporting cells: dropped
+  double min_length = 0.25;       ///< shorter segments: dropped [m]
+  double min_elongation = 3.0;    ///< length / measured thickness below this: a blob, dropped
+  double min_label_agreement = 0.6; ///< glass: share of cells whose angle label is within max_angle of the fit
+  double max_gap = 0.30;          ///< a region is cut where its cells leave a longer gap [m]
+  double merge_gap = 0.30;        ///< collinear pieces closer than this may merge [m]
+  double merge_angle_deg = 6.0;   ///< collinear pieces: direction difference [deg]
+  double merge_offset = 0.10;     ///< collinear pieces: endpoint offset from the other's line [m]
+  double thickness = 0.10;        ///< thickness written for a segment that has no measured one [m]
+};
+
+/// Everything vectorize() needs. Defaults suit 5 cm grids.
+struct VectorizeOptions {
+  MaterialOptions glass = glassDefaults();
+  MaterialOptions wall = wallDefaults();
+  double noise_floor = 0.3;          ///< BIC: floor of the rms cell offset from a line [cells]
+  double params_per_segment = 4.0;   ///< BIC: free parameters of one segment (line + extent)
+  double max_wall_thickness = 0.35;  ///< two parallel wall faces closer than this become one wall [m]
+  double corner_snap = 0.35;         ///< wall ends this close to another wall's line are joined [m]
+  bool regularize = true;            ///< snap near-axis segments to the dominant axes
+  double regularize_angle_deg = 3.0; ///< ... when within this of an axis [deg]; angled glass stays
+  bool walls = true;                 ///< fit walls
+  bool glass_segments = true;        ///< fit glass
+
+  static MaterialOptions glassDefaults();
+  static MaterialOptions wallDefaults();
+};
+
+/// Counts and times of one run.
+struct VectorizeStats {
+  std::size_t glass_cells = 0, wall_cells = 0;  ///< input cells per material
+  std::size_t regions = 0;         ///< regions grown (both materials)
+  std::size_t bic_splits = 0;      ///< pieces split by the criterion
+  std::size_t merges = 0;          ///< collinear merges accepted
+  std::size_t face_merges = 0;     ///< wall face pairs merged into a centre line
+  std::size_t regularized = 0;     ///< segments rotated onto an axis
+  std::size_t corners = 0;         ///< segment ends moved to close a corner or T
+  std::size_t dropped = 0;         ///< pieces dropped (too short, too few cells, blob)
+  double dominant_axis_deg = 0.0;  ///< the floor's dominant wall direction in [0, 90) [deg]
+  double seconds = 0.0;            ///< wall-clock time [s]
+};
+
+/// The floorplan and how it was obtained.
+struct VectorizeResult {
+  VectorMap map;  ///< glass segments first, then walls; attributes filled
+  VectorizeStats stats;
+};
+
+/// Vectorises a label raster. Throws Error if the grid is malformed.
+VectorizeResult vectorize(const LabelGrid& grid, const VectorizeOptions& options = {});
+
+}  // namespace glassmap::vector

@@ -1,0 +1,248 @@
+// Vectorisation on synthetic label grids: each test draws a known floorplan into a raster (plus
+// noise), vectorises it and checks the segments against what was drawn.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "glassmap/core/angles.hpp"
+#include "glassmap/core/error.hpp"
+#include "glassmap/vector/vectorize.hpp"
+
+namespace glassmap::vector {
+namespace {
+
+MapSegment seg(double ax, double ay, double bx, double by, Material m, double thickness) {
+  MapSegment s;
+  s.a = Vec2(ax, ay);
+  s.b = Vec2(bx, by);
+  s.material = m;
+  s.thickness = thickness;
+  return s;
+}
+
+LabelGrid gridWith(const std::vector<MapSegment>& segments, double w = 6.0, double h = 5.0) {
+  LabelGrid g = makeLabelGrid(static_cast<int>(w / 0.05), static_cast<int>(h / 0.05), 0.05);
+  std::fill(g.codes.begin(), g.codes.end(), kCodeEmpty);
+  VectorMap map;
+  map.segments = segments;
+  rasterize(g, map);
+  return g;
+}
+
+std::vector<MapSegment> ofMaterial(const VectorMap& map, Material m) {
+  std::vector<MapSegment> out;
+  for (const MapSegment& s : map.segments)
+    if (s.material == m) out.push_back(s);
+  return out;
+}
+
+// Undirected line direction difference [deg] in [0, 90].
+double directionErrorDeg(const MapSegment& s, double expected_rad) {
+  const double a = std::atan2(s.b.y() - s.a.y(), s.b.x() - s.a.x());
+  return rad2deg(std::abs(std::remainder(a - expected_rad, kPi)));
+}
+
+// Endpoints match in either order within tol [m].
+bool sameEnds(const MapSegment& s, const Vec2& a, const Vec2& b, double tol) {
+  return ((s.a - a).norm() <= tol && (s.b - b).norm() <= tol) || ((s.a - b).norm() <= tol && (s.b - a).norm() <= tol);
+}
+
+void addSalt(LabelGrid& g, double density, std::uint32_t seed, bool glass) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::uniform_int_distribution<int> bin(0, 35);
+  for (auto& c : g.codes)
+    if (u(rng) < density) c = glass ? static_cast<std::uint8_t>(kCodeFirstGlass + bin(rng)) : kCodeOccupied;
+}
+
+TEST(LabelGrid, GlassCodesAndValidation) {
+  EXPECT_EQ(glassCodeOf(0.0), 10);
+  EXPECT_EQ(glassCodeOf(deg2rad(90.0)), 28);
+  EXPECT_EQ(glassCodeOf(deg2rad(181.0)), 10);
+  EXPECT_EQ(glassCodeOf(deg2rad(178.0)), 10);  // 180 deg is bin 0
+  LabelGrid g = makeLabelGrid(4, 3, 0.05);
+  EXPECT_NEAR(g.normalOf(28), kPi / 2, 1e-12);
+  EXPECT_NO_THROW(g.validate());
+  g.codes.pop_back();
+  EXPECT_THROW(g.validate(), Error);
+  g = makeLabelGrid(4, 3, 0.05);
+  g.codes[0] = 10 + 36;  // past the last 5-degree bin
+  EXPECT_THROW(g.validate(), Error);
+  g = makeLabelGrid(4, 3, 0.0);
+  EXPECT_THROW(g.validate(), Error);
+}
+
+TEST(Vectorize, EmptyGridGivesEmptyMap) {
+  const LabelGrid g = gridWith({});
+  const VectorizeResult r = vectorize(g);
+  EXPECT_TRUE(r.map.segments.empty());
+}
+
+TEST(Vectorize, NoisyStraightPaneIsOneSegment) {
+  LabelGrid g = gridWith({seg(1.0, 2.0, 4.5, 2.0, Material::Glass, 0.01)});
+  addSalt(g, 0.01, 7, true);
+  const VectorizeResult r = vectorize(g);
+  const auto glass = ofMaterial(r.map, Material::Glass);
+  ASSERT_EQ(glass.size(), 1u);
+  EXPECT_LT(directionErrorDeg(glass[0], 0.0), 0.5);
+  EXPECT_TRUE(sameEnds(glass[0], Vec2(1.0, 2.0), Vec2(4.5, 2.0), 0.08))
+      << glass[0].a.transpose() << " -> " << glass[0].b.transpose();
+  EXPECT_NEAR(glass[0].pane_angle, kPi / 2, deg2rad(0.5));
+  EXPECT_GE(glass[0].support, 60u);
+  EXPECT_TRUE(ofMaterial(r.map, Material::Wall).empty());  // salt is glass only
+}
+
+TEST(Vectorize, AngledPaneStaysAngled) {
+  // An axis-aligned room plus a pane at 17 degrees: regularisation must not rotate the pane.
+  const double a = deg2rad(17.0);
+  LabelGrid g = gridWith({seg(0.5, 0.5, 5.5, 0.5, Material::Wall, 0.15), seg(0.5, 0.5, 0.5, 4.5, Material::Wall, 0.15),
+                          seg(1.5, 2.0, 1.5 + 3.0 * std::cos(a), 2.0 + 3.0 * std::sin(a), Material::Glass, 0.01)});
+  const VectorizeResult r = vectorize(g);
+  const auto glass = ofMaterial(r.map, Material::Glass);
+  ASSERT_EQ(glass.size(), 1u);
+  EXPECT_LT(directionErrorDeg(glass[0], a), 1.0);
+  EXPECT_NEAR(glass[0].length(), 3.0, 0.1);
+}
+
+TEST(Vectorize, SlightlyOffAxisWallIsSnappedToTheAxes) {
+  const double a = deg2rad(1.5);
+  LabelGrid g = gridWith({seg(0.5, 0.5, 5.5, 0.5, Material::Wall, 0.15), seg(0.5, 0.5, 0.5, 4.5, Material::Wall, 0.15),
+                          seg(1.5, 2.5, 1.5 + 3.5 * std::cos(a), 2.5 + 3.5 * std::sin(a), Material::Wall, 0.1)});
+  const VectorizeResult r = vectorize(g);
+  const auto walls = ofMaterial(r.map, Material::Wall);
+  ASSERT_EQ(walls.size(), 3u);
+  const double axis = std::atan2(walls[0].b.y() - walls[0].a.y(), walls[0].b.x() - walls[0].a.x());
+  for (const MapSegment& w : walls)
+    EXPECT_LT(std::min(directionErrorDeg(w, axis), directionErrorDeg(w, axis + kPi / 2)), 1e-6);
+  EXPECT_LT(std::min(directionErrorDeg(walls[0], 0.0), directionErrorDeg(walls[0], kPi / 2)), 0.2);
+  EXPECT_GE(r.stats.regularized, 1u);
+}
+
+TEST(Vectorize, LOfThickWallsIsTwoSegmentsMeetingAtTheCorner) {
+  const LabelGrid g = gridWith({seg(1.0, 1.0, 5.0, 1.0, Material::Wall, 0.2), seg(1.0, 1.0, 1.0, 4.0, Material::Wall, 0.2)});
+  const VectorizeResult r = vectorize(g);
+  const auto walls = ofMaterial(r.map, Material::Wall);
+  ASSERT_EQ(walls.size(), 2u);
+  int horizontal = 0, vertical = 0;
+  for (const MapSegment& w : walls) {
+    if (directionErrorDeg(w, 0.0) < 1.0) {
+      ++horizontal;
+      EXPECT_TRUE(sameEnds(w, Vec2(1.0, 1.0), Vec2(5.0, 1.0), 0.15)) << w.a.transpose() << " -> " << w.b.transpose();
+    } else if (directionErrorDeg(w, kPi / 2) < 1.0) {
+      ++vertical;
+      EXPECT_TRUE(sameEnds(w, Vec2(1.0, 1.0), Vec2(1.0, 4.0), 0.15)) << w.a.transpose() << " -> " << w.b.transpose();
+    }
+    EXPECT_NEAR(w.thickness, 0.2, 0.08);
+  }
+  EXPECT_EQ(horizontal, 1);
+  EXPECT_EQ(vertical, 1);
+}
+
+TEST(Vectorize, TwoFacesOfAWallBecomeOneCentreLine) {
+  // A 0.25 m wall seen from both sides: two bands of occupied cells, unknown inside.
+  LabelGrid g = gridWith({seg(0.5, 2.0, 5.5, 2.0, Material::Wall, 0.05), seg(0.5, 2.25, 5.5, 2.25, Material::Wall, 0.05)});
+  for (int x = 0; x < g.width; ++x)
+    for (int y = 0; y < g.height; ++y) {
+      const Vec2 c = g.center(x, y);
+      if (c.y() > 2.05 && c.y() < 2.2) g.codes[static_cast<std::size_t>(y) * g.width + x] = kCodeUnknown;
+    }
+  const VectorizeResult r = vectorize(g);
+  const auto walls = ofMaterial(r.map, Material::Wall);
+  ASSERT_EQ(walls.size(), 1u);
+  EXPECT_NEAR(0.5 * (walls[0].a.y() + walls[0].b.y()), 2.125, 0.03);
+  EXPECT_NEAR(walls[0].thickness, 0.3, 0.06);
+  EXPECT_EQ(r.stats.face_merges, 1u);
+}
+
+TEST(Vectorize, LongThickWallIsNotSplit) {
+  const LabelGrid g = gridWith({seg(0.3, 2.0, 9.7, 2.0, Material::Wall, 0.3)}, 10.0, 4.0);
+  const VectorizeResult r = vectorize(g);
+  ASSERT_EQ(r.map.segments.size(), 1u);
+  EXPECT_NEAR(r.map.segments[0].length(), 9.55, 0.15);  // 9.4 m plus round caps of the raster
+  EXPECT_EQ(r.stats.bic_splits, 0u);
+}
+
+TEST(Vectorize, BentPaneIsSplitByTheCriterion) {
+  // Two glass panes meeting at 10 degrees, labelled alike (as a coarse classifier would): one
+  // region, but two lines explain the cells far better than one.
+  const double a = deg2rad(10.0);
+  LabelGrid g = gridWith({seg(0.5, 2.0, 3.0, 2.0, Material::Glass, 0.01),
+                          seg(3.0, 2.0, 3.0 + 2.5 * std::cos(a), 2.0 + 2.5 * std::sin(a), Material::Glass, 0.01)});
+  for (auto& c : g.codes)
+    if (isGlassCode(c)) c = glassCodeOf(kPi / 2);
+  const VectorizeResult r = vectorize(g);
+  const auto glass = ofMaterial(r.map, Material::Glass);
+  ASSERT_EQ(glass.size(), 2u);
+  std::vector<double> errs = {std::min(directionErrorDeg(glass[0], 0.0), directionErrorDeg(glass[0], a)),
+                              std::min(directionErrorDeg(glass[1], 0.0), directionErrorDeg(glass[1], a))};
+  EXPECT_LT(errs[0], 1.0);
+  EXPECT_LT(errs[1], 1.0);
+}
+
+TEST(Vectorize, CollinearPanesMergeAcrossSmallGapsOnly) {
+  VectorizeOptions opt;
+  ASSERT_DOUBLE_EQ(opt.glass.merge_gap, 0.30);
+  {  // 0.1 m gap (a mullion): one segment
+    const LabelGrid g = gridWith({seg(0.5, 2.0, 2.5, 2.0, Material::Glass, 0.01), seg(2.6, 2.0, 5.0, 2.0, Material::Glass, 0.01)});
+    const auto glass = ofMaterial(vectorize(g, opt).map, Material::Glass);
+    ASSERT_EQ(glass.size(), 1u);
+    EXPECT_TRUE(sameEnds(glass[0], Vec2(0.5, 2.0), Vec2(5.0, 2.0), 0.08));
+  }
+  {  // 0.6 m gap, twice the merge gap: two segments
+    const LabelGrid g = gridWith({seg(0.5, 2.0, 2.5, 2.0, Material::Glass, 0.01), seg(3.1, 2.0, 5.0, 2.0, Material::Glass, 0.01)});
+    const auto glass = ofMaterial(vectorize(g, opt).map, Material::Glass);
+    ASSERT_EQ(glass.size(), 2u);
+    for (const MapSegment& s : glass)
+      EXPECT_TRUE(sameEnds(s, Vec2(0.5, 2.0), Vec2(2.5, 2.0), 0.08) || sameEnds(s, Vec2(3.1, 2.0), Vec2(5.0, 2.0), 0.08));
+  }
+  {  // parallel panes 0.3 m apart never merge
+    const LabelGrid g = gridWith({seg(0.5, 2.0, 5.0, 2.0, Material::Glass, 0.01), seg(0.5, 2.3, 5.0, 2.3, Material::Glass, 0.01)});
+    EXPECT_EQ(ofMaterial(vectorize(g, opt).map, Material::Glass).size(), 2u);
+  }
+}
+
+TEST(Vectorize, NoiseBlobsDoNotBecomeGlass) {
+  LabelGrid g = gridWith({});
+  addSalt(g, 0.03, 11, true);
+  // Compact blobs of one label, up to 5 x 5 cells, as a noisy classifier leaves around clutter.
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> px(5, g.width - 10), py(5, g.height - 10), size(2, 5), bin(0, 35);
+  for (int b = 0; b < 40; ++b) {
+    const int x0 = px(rng), y0 = py(rng), s = size(rng);
+    const auto code = static_cast<std::uint8_t>(kCodeFirstGlass + bin(rng));
+    for (int y = y0; y < y0 + s; ++y)
+      for (int x = x0; x < x0 + s; ++x) g.codes[static_cast<std::size_t>(y) * g.width + x] = code;
+  }
+  const VectorizeResult r = vectorize(g);
+  for (const MapSegment& s : ofMaterial(r.map, Material::Glass))
+    ADD_FAILURE() << "glass " << s.a.transpose() << " -> " << s.b.transpose() << " support " << s.support;
+  EXPECT_GT(r.stats.glass_cells, 500u);
+}
+
+TEST(Vectorize, RoomOfWallsGivesFourClosedWalls) {
+  const LabelGrid g = gridWith({seg(1, 1, 5, 1, Material::Wall, 0.15), seg(5, 1, 5, 4, Material::Wall, 0.15),
+                                seg(5, 4, 1, 4, Material::Wall, 0.15), seg(1, 4, 1, 1, Material::Wall, 0.15)});
+  const VectorizeResult r = vectorize(g);
+  ASSERT_EQ(r.map.segments.size(), 4u);
+  const std::vector<Vec2> corners = {{1, 1}, {5, 1}, {5, 4}, {1, 4}};
+  for (const MapSegment& s : r.map.segments)
+    for (const Vec2& e : {s.a, s.b}) {
+      double best = 1e9;
+      for (const Vec2& c : corners) best = std::min(best, (e - c).norm());
+      EXPECT_LT(best, 0.06) << "end " << e.transpose();
+    }
+}
+
+TEST(Vectorize, EvidenceAndSupportAttributes) {
+  LabelGrid g = gridWith({seg(1.0, 2.025, 4.0, 2.025, Material::Glass, 0.01)});  // along cell centres
+  g.evidence.assign(g.cells(), 0.25f);
+  const auto glass = ofMaterial(vectorize(g).map, Material::Glass);
+  ASSERT_EQ(glass.size(), 1u);
+  EXPECT_NEAR(glass[0].evidence, 0.25, 1e-6);
+  EXPECT_NEAR(glass[0].support, 60u, 1u);  // 3 m of 5 cm cells, one row (+ the end cell the raster touches)
+}
+
+}  // namespace
+}  // namespace glassmap::vector
