@@ -1,0 +1,52 @@
+#pragma once
+/// The paper's glass sensor model (sections 2.1-2.4). For a beam whose first surface is glass at
+/// range d_g and incidence theta [deg] three modes:
+///   direct reflection  P(direct|theta) = exp(-theta^2 / (2 sigma_dr^2)), z ~ N(d_g, sigma_z)
+///   normal reflection  P(norm|theta) = exp(-lambda (90 - theta)),       z ~ N(d_g + d_o, sigma_z)
+///   refraction         P(ref|theta) = max(0, 1 - P(norm) - P(direct)),   z ~ N(d_real + offset, sigma_z)
+/// with d_o from the ray mirrored at the pane and d_real from the ray continued through it.
+/// Beams whose first surface is a wall use the beam model.
+///
+/// Variant::Mixture ("glass"): the three weights normalised to sum 1 form the hit component of the
+/// beam-model mixture (short, max and random terms kept): a proper density over [0, z_max].
+/// Variant::Paper ("glass-paper"): the paper's inclusion-exclusion a1 + a2 + a3 - a1 a2 - a1 a3 -
+/// a2 a3 of the weighted densities a_k, as written. Densities above 1 (sigma_z of a few cm) make
+/// it negative; it is then floored at the random-reading density z_rand / z_max before the log,
+/// which is also what a reading far from every mode gets.
+
+#include "glassmap/geometry/ray_caster.hpp"
+#include "glassmap/sensor/mixture.hpp"
+#include "glassmap/sensor/sensor_model.hpp"
+
+namespace glassmap::sensor {
+
+/// Expected ranges of the three glass modes for one beam.
+struct GlassModes {
+  double d_g = 0;          ///< range to the pane [m]
+  double theta_deg = 0;    ///< incidence angle [deg]
+  double w_direct = 0, w_normal = 0, w_refract = 0;  ///< the paper's P(mode | theta) [-]
+  double e_normal = 0;     ///< d_g + d_o [m]; +inf when the mirrored ray meets nothing
+  double e_refract = 0;    ///< d_real + offset [m]; +inf when the continued ray meets nothing
+};
+
+class GlassModel final : public SensorModel {
+ public:
+  enum class Variant { Mixture, Paper };
+  GlassModel(const VectorMap& map, const SensorParams& params, Variant variant = Variant::Mixture);
+  std::string name() const override { return variant_ == Variant::Paper ? "glass-paper" : "glass"; }
+  double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
+                       double max_range) const override;
+  using SensorModel::logLikelihood;
+  const VectorMap& map() const override { return caster_.map(); }
+
+  /// The modes for a pane hit `hit` by the ray origin + s dir (casts the mirrored and continued rays).
+  GlassModes modes(const Vec2& origin, const Vec2& dir, const RayHit& hit, double max_range) const;
+
+ private:
+  RayCaster caster_;
+  SensorParams params_;
+  Mixture mix_;
+  Variant variant_;
+};
+
+}  // namespace glassmap::sensor

@@ -1,0 +1,31 @@
+#pragma once
+/// The beam-model mixture (Probabilistic Robotics eq. 6.4-6.12) as densities over a reading z in
+/// [0, z_max) plus a point mass at z_max. Shared by the beam and glass models.
+
+#include "glassmap/sensor/sensor_model.hpp"
+
+namespace glassmap::sensor {
+
+/// Normalised weights and shapes of the hit/short/max/random mixture.
+struct Mixture {
+  double w_hit = 0, w_short = 0, w_max = 0, w_rand = 0;  ///< weights summing to 1 [-]
+  double sigma = 0.05;         ///< hit std dev [m]
+  double lambda_short = 0.2;   ///< short-reading rate [1/m]
+
+  explicit Mixture(const SensorParams& p);
+
+  /// Hit density at z [1/m] of a reading around expected range e, a Gaussian truncated and
+  /// renormalised to [0, z_max); 0 when e >= z_max (then hitMass() is the point mass at z_max).
+  double hitDensity(double z, double e, double z_max) const;
+  /// Unnormalised Gaussian N(z; e, sigma) [1/m] (the paper's form).
+  double gauss(double z, double e) const;
+  /// Short-reading density at z [1/m] for a first surface at e (truncated exponential on [0, e)).
+  double shortDensity(double z, double e, double z_max) const;
+  /// Uniform density 1 / z_max [1/m].
+  static double randDensity(double z_max) { return 1.0 / z_max; }
+  /// p(z) for one expected range e (+inf or >= z_max: no surface); z >= z_max is a max reading
+  /// and returns its probability mass.
+  double probability(double z, double e, double z_max) const;
+};
+
+}  // namespace glassmap::sensor

@@ -1,0 +1,84 @@
+#pragma once
+/// Per-beam laser likelihood models p(z | x, m) against a VectorMap, behind one interface and
+/// picked by name: "beam", "field", "glass" (default) and "glass-paper" (paper section 2.4).
+/// Everything is returned as a natural log-likelihood.
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "glassmap/core/pose2.hpp"
+#include "glassmap/geometry/vector_map.hpp"
+#include "glassmap/io/laser_scan.hpp"
+
+namespace glassmap::sensor {
+
+/// How a glass-unaware model (beam, field) sees the map's glass.
+enum class GlassAs { Opaque, Invisible };
+
+/// "opaque" / "invisible"; parseGlassAs throws Error otherwise.
+std::string_view toString(GlassAs g);
+GlassAs parseGlassAs(std::string_view s);
+
+/// Parameters of the models. The mixture weights z_* are normalised by the models.
+struct SensorParams {
+  double max_range = 30.0;      ///< sensor maximum range z_max [m] (a log's scans override it)
+  double sigma_hit = 0.05;      ///< std dev of a measured range around the expected one, sigma_z [m]
+  double z_hit = 0.85;          ///< weight of the hit (measurement) component [-]
+  double z_short = 0.05;        ///< weight of unexpected short readings (people, clutter) [-]
+  double z_max = 0.05;          ///< weight of max-range readings (missed echoes) [-]
+  double z_rand = 0.05;         ///< weight of uniformly random readings [-]
+  double lambda_short = 0.2;    ///< rate of the short-reading exponential [1/m]
+  GlassAs glass_as = GlassAs::Opaque;  ///< beam/field: what glass is to them
+  // Glass model (paper 2.1-2.3).
+  double sigma_direct_deg2 = 3.0;  ///< variance of the direct-reflection lobe, sigma_dr^2 [deg^2]
+  double lambda_normal = 0.09;      ///< rate of the normal-reflection weight [1/deg]
+  double glass_index = 1.5;        ///< refractive index used for the refraction offset [-]
+  double offset = -1.0;            ///< refraction offset per pane [m]; < 0: the physical elongation
+                                   ///< t (n / cos theta_t - 1 / cos theta_i) of each pane crossed
+  int max_panes = 4;               ///< panes the transmitted ray is followed through
+  // Field model.
+  double field_resolution = 0.025;  ///< cell size of the precomputed distance grid [m]
+  double field_max_dist = 1.0;      ///< distances are clamped to this [m]
+};
+
+/// Beams of one scan prepared for evaluation: angles in the laser frame, unit directions, ranges.
+struct BeamSet {
+  std::vector<double> angles;    ///< beam angle in the laser frame [rad]
+  std::vector<Vec2> dirs;        ///< (cos, sin) of angles
+  std::vector<double> ranges;    ///< measured range z [m]; >= max_range means a max reading
+  std::vector<Vec2> points;      ///< z * dir: the end point in the laser frame [m]
+  double max_range = 30.0;       ///< z_max of the scan [m]
+  std::size_t size() const { return ranges.size(); }
+};
+
+/// Picks `count` beams spread evenly over the scan (all when count <= 0 or >= the scan's size).
+/// A no-return reading (kNoReturn) becomes a max reading.
+BeamSet makeBeamSet(const LaserScan& scan, int count);
+
+/// One beam model: log p(z | x, m) per beam, summed over a scan.
+class SensorModel {
+ public:
+  virtual ~SensorModel() = default;
+  /// Model name as picked on the command line.
+  virtual std::string name() const = 0;
+  /// log p(z | T_map_laser, m) of one beam from the laser's origin along unit direction `dir`
+  /// (map frame) reading z [m]; z >= max_range is a max reading: the log of its probability mass.
+  virtual double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
+                               double max_range) const = 0;
+  /// Sum over the beams of logLikelihood.
+  virtual double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const;
+  /// The same for a beam at `angle` [rad] in the laser frame.
+  double beamLogLikelihood(const Pose2& T_map_laser, double angle, double z, double max_range) const;
+  /// The map the model was built on.
+  virtual const VectorMap& map() const = 0;
+};
+
+/// Model names accepted by makeSensorModel.
+std::vector<std::string> sensorModelNames();
+/// Builds a model by name over a copy of `map`; throws Error for an unknown name.
+std::unique_ptr<SensorModel> makeSensorModel(std::string_view name, const VectorMap& map,
+                                             const SensorParams& params = {});
+
+}  // namespace glassmap::sensor

@@ -1,0 +1,85 @@
+#include "glassmap/localize/localizer.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "glassmap/core/error.hpp"
+
+namespace glassmap::localize {
+namespace {
+
+// Odometry pose at time t from ODOM records (linear interpolation, clamped at the ends).
+Pose2 odometryAt(const std::vector<StampedPose>& odom, double t) {
+  const auto it = std::lower_bound(odom.begin(), odom.end(), t,
+                                   [](const StampedPose& p, double v) { return p.timestamp < v; });
+  if (it == odom.begin()) return odom.front().pose;
+  if (it == odom.end()) return odom.back().pose;
+  const StampedPose& b = *it;
+  const StampedPose& a = *(it - 1);
+  const double span = b.timestamp - a.timestamp;
+  return Pose2::interpolate(a.pose, b.pose, span > 0 ? (t - a.timestamp) / span : 0.0);
+}
+
+}  // namespace
+
+LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model,
+                           const LocalizeOptions& options) {
+  LocalizeResult result;
+  result.scans = log.scans.size();
+  if (log.scans.empty()) return result;
+  for (const LaserScan& s : log.scans)
+    if (!s.has_odom && log.odometry.empty())
+      throw Error("the log has scans without odometry and no ODOM records: localization needs odometry");
+
+  const auto clock = std::chrono::steady_clock::now;
+  const auto t_start = clock();
+  double update_seconds = 0.0;
+  double particle_sum = 0.0;
+
+  ParticleFilter filter(model, options.filter);
+  const auto laserOdom = [&](const LaserScan& s) {
+    return (s.has_odom ? s.odom_pose : odometryAt(log.odometry, s.timestamp)) * options.T_base_laser;
+  };
+
+  Pose2 odom_at_update = laserOdom(log.scans.front());
+  Pose2 est_at_update;
+  result.trajectory.reserve(log.scans.size());
+  for (std::size_t k = 0; k < log.scans.size(); ++k) {
+    const LaserScan& scan = log.scans[k];
+    const Pose2 odom = laserOdom(scan);
+    const OdometryDelta delta = odometryDelta(odom_at_update, odom);
+    const double turned = std::abs(angleDiff(odom.theta, odom_at_update.theta));
+    const bool first = k == 0;
+    if (first || std::abs(delta.trans) >= options.update_min_trans || turned >= options.update_min_rot) {
+      const auto t0 = clock();
+      if (first) {
+        if (options.init)
+          filter.initialize(*options.init, options.init_sigma_xy, options.init_sigma_theta);
+        else
+          filter.initializeGlobal();
+      } else {
+        filter.predict(delta);
+      }
+      const sensor::BeamSet beams = sensor::makeBeamSet(scan, options.beams);
+      particle_sum += static_cast<double>(filter.size());
+      if (filter.correct(beams)) ++result.resamplings;
+      result.injected += filter.lastInjected();
+      ++result.updates;
+      odom_at_update = odom;
+      est_at_update = filter.estimate();
+      update_seconds += std::chrono::duration<double>(clock() - t0).count();
+      result.trajectory.push_back({scan.timestamp, est_at_update, 0.0, 0.0});
+    } else {
+      // Between updates the estimate follows the odometry.
+      result.trajectory.push_back({scan.timestamp, est_at_update * odom_at_update.between(odom), 0.0, 0.0});
+    }
+    result.spread.push_back(filter.spread());
+  }
+  result.seconds = std::chrono::duration<double>(clock() - t_start).count();
+  result.seconds_per_update = result.updates ? update_seconds / static_cast<double>(result.updates) : 0.0;
+  result.mean_particles = result.updates ? particle_sum / static_cast<double>(result.updates) : 0.0;
+  result.log_duration = log.scans.back().timestamp - log.scans.front().timestamp;
+  return result;
+}
+
+}  // namespace glassmap::localize

@@ -1,0 +1,101 @@
+#include "glassmap/sensor/glass_model.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "glassmap/geometry/optics.hpp"
+
+namespace glassmap::sensor {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Modes with a weight below this skip their ray cast (exp(-0.09 (90 - theta)) is never exactly 0).
+constexpr double kNegligible = 1e-4;
+
+}  // namespace
+
+GlassModel::GlassModel(const VectorMap& map, const SensorParams& params, Variant variant)
+    : caster_(map), params_(params), mix_(params), variant_(variant) {}
+
+GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& hit,
+                             double max_range) const {
+  GlassModes m;
+  m.d_g = hit.range;
+  m.theta_deg = rad2deg(hit.incidence);
+  // Paper eq. (2.1): direct-reflection lobe; (2.2): normal reflection; (2.3): refraction.
+  m.w_direct = std::exp(-m.theta_deg * m.theta_deg / (2.0 * params_.sigma_direct_deg2));
+  m.w_normal = std::exp(-params_.lambda_normal * (90.0 - m.theta_deg));
+  m.w_refract = std::max(0.0, 1.0 - m.w_normal - m.w_direct);
+  m.e_normal = kInf;
+  m.e_refract = kInf;
+  const Vec2 p = origin + hit.range * dir;
+  const MapSegment& pane = caster_.map().segments[static_cast<std::size_t>(hit.segment)];
+  if (m.w_normal > kNegligible) {
+    // d_o: along the ray mirrored at the pane, to the next surface of any material.
+    const Vec2 t = pane.direction();
+    const Vec2 mirrored = 2.0 * dir.dot(t) * t - dir;
+    const double d_o = caster_.castRange(p, mirrored, max_range - m.d_g, hit.segment);
+    m.e_normal = m.d_g + d_o;
+  }
+  if (m.w_refract > kNegligible) {
+    // d_real: the straight ray continued through this pane (and up to max_panes - 1 more) to a
+    // wall; offset: each pane's elongation, or the fixed per-pane offset when one is set.
+    double offset = params_.offset >= 0 ? params_.offset
+                                        : paneRangeElongation(pane.thickness, hit.incidence, params_.glass_index);
+    Vec2 o = p;
+    double travelled = m.d_g;
+    std::int32_t skip = hit.segment;
+    for (int k = 1; k <= params_.max_panes; ++k) {
+      const RayHit next = caster_.cast(o, dir, max_range - travelled, skip);
+      if (!next.hit()) break;
+      travelled += next.range;
+      if (next.material == Material::Wall || k == params_.max_panes) {
+        m.e_refract = travelled + offset;
+        break;
+      }
+      const MapSegment& s = caster_.map().segments[static_cast<std::size_t>(next.segment)];
+      offset += params_.offset >= 0 ? params_.offset
+                                    : paneRangeElongation(s.thickness, next.incidence, params_.glass_index);
+      o = o + next.range * dir;
+      skip = next.segment;
+    }
+  }
+  return m;
+}
+
+double GlassModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
+                                 double max_range) const {
+  const RayHit hit = caster_.cast(T_map_laser.t, dir, max_range);
+  if (!hit.hit() || hit.material == Material::Wall)
+    return std::log(mix_.probability(z, hit.range, max_range));
+  const GlassModes m = modes(T_map_laser.t, dir, hit, max_range);
+  const bool max_reading = z >= max_range;
+  if (variant_ == Variant::Mixture) {
+    const double sum = m.w_direct + m.w_normal + m.w_refract;  // > 0: w_normal never vanishes
+    const double wd = m.w_direct / sum, wn = m.w_normal / sum, wr = m.w_refract / sum;
+    double p;
+    if (max_reading) {
+      // Modes whose surface lies beyond z_max put their weight on the max reading.
+      const double beyond = (m.e_normal < max_range ? 0.0 : wn) + (m.e_refract < max_range ? 0.0 : wr);
+      p = mix_.w_max + mix_.w_hit * beyond;
+    } else {
+      const double hit_density = wd * mix_.hitDensity(z, m.d_g, max_range) +
+                                 wn * mix_.hitDensity(z, m.e_normal, max_range) +
+                                 wr * mix_.hitDensity(z, m.e_refract, max_range);
+      p = mix_.w_hit * hit_density + mix_.w_short * mix_.shortDensity(z, m.d_g, max_range) +
+          mix_.w_rand / max_range;
+    }
+    return std::log(p);
+  }
+  // Paper 2.4, as written: alpha_1 = (z, ref), alpha_2 = (z, norm), alpha_3 = (z, direct), each the
+  // mode's weight times an unnormalised Gaussian; a mode meeting nothing expects z_max.
+  const double zz = std::min(z, max_range);
+  const double a1 = m.w_refract * mix_.gauss(zz, std::min(m.e_refract, max_range));
+  const double a2 = m.w_normal * mix_.gauss(zz, std::min(m.e_normal, max_range));
+  const double a3 = m.w_direct * mix_.gauss(zz, m.d_g);
+  const double p = a1 + a2 + a3 - a1 * a2 - a1 * a3 - a2 * a3;
+  // Guard: the formula goes negative when two densities exceed 1; floor at the random density.
+  return std::log(std::max(p, mix_.w_rand / max_range));
+}
+
+}  // namespace glassmap::sensor
