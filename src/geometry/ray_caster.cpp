@@ -10,25 +10,26 @@ namespace {
 constexpr std::int32_t kNone = std::numeric_limits<std::int32_t>::max();
 
 // Ray o + t*u against segment a + v*d, v in [0, 1]. Solving t*u - v*d = a - o = w with 2D cross
-// products: t = (w x d) / (u x d), v = (w x u) / (u x d). The v test is done without division;
-// only accepted candidates pay for t. Parallel rays (u x d == 0, collinear included) never hit.
-// Both the grid walk and the brute force call this, so they agree bit for bit.
+// products: t = (w x d) / (u x d), v = (w x u) / (u x d). Returns t, or +infinity when the ray
+// misses: v outside [0, 1], t <= 0, or u x d == 0 (parallel and collinear rays never hit: t and
+// v are then infinite or NaN and fail the tests). v in [0, 1] is tested as v (1 - v) >= 0, exact
+// at both ends. No branches: hit or miss is unpredictable. Both the grid walk and the brute force
+// call this, so they agree bit for bit.
 template <class S>
-inline bool intersect(double ox, double oy, double ux, double uy, const S& s, double& t) {
+inline double hitParam(double ox, double oy, double ux, double uy, const S& s) {
   const double wx = s.ax - ox, wy = s.ay - oy;
-  double den = ux * s.dy - uy * s.dx;
-  double tn = wx * s.dy - wy * s.dx;
-  double vn = wx * uy - wy * ux;
-  if (den < 0) {
-    den = -den;
-    tn = -tn;
-    vn = -vn;
-  }
-  // den > 0 is implied by 0 <= vn <= den together with tn > 0? No: den == 0 and vn == 0 would
-  // pass the v test, so test den explicitly.
-  if (!(den > 0) || !(vn >= 0) || !(vn <= den) || !(tn > 0)) return false;
-  t = tn / den;
-  return true;
+  const double den = ux * s.dy - uy * s.dx;
+  const double t = (wx * s.dy - wy * s.dx) / den;
+  const double v = (wx * uy - wy * ux) / den;
+  const bool ok = (v * (1.0 - v) >= 0.0) & (t > 0.0);
+  return ok ? t : std::numeric_limits<double>::infinity();
+}
+
+// Initial "best" range: hits are accepted while t < limit, i.e. t <= max_range. Capped below
+// +infinity so that a miss (+infinity) is never accepted.
+inline double acceptLimit(double max_range) {
+  const double m = std::min(max_range, std::numeric_limits<double>::max());
+  return std::nextafter(m, std::numeric_limits<double>::infinity());
 }
 
 // Does the segment a + v*d touch the box [x0,x1] x [y0,y1]? The caller guarantees that the
@@ -124,93 +125,117 @@ RayCaster::RayCaster(const VectorMap& map, RayCasterOptions options) : map_(map)
   }
 }
 
+template <bool kSkip>
 RayCaster::Best RayCaster::walk(double ox, double oy, double ux, double uy, double max_range,
                                 std::int32_t skip) const {
-  Best best{max_range, kNone};
-  if (nx_ == 0 || !(max_range > 0)) return best;
-
-  // Clip the ray to the grid box (slab method): the walk covers t in [t0, t1].
-  double t0 = 0.0, t1 = max_range;
+  const double limit = acceptLimit(max_range);
+  if (nx_ == 0 || !(max_range > 0)) return {limit, kNone};
   const double inv_ux = 1.0 / ux, inv_uy = 1.0 / uy;  // +-inf for axis-parallel rays
-  if (ux != 0.0) {
-    double ta = (origin_.x() - ox) * inv_ux, tb = (top_.x() - ox) * inv_ux;
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  } else if (!(ox >= origin_.x() && ox <= top_.x())) {
-    return best;
+
+  // Entry point: the origin when it is inside the grid (the common case), else the point where
+  // the ray enters the grid box (slab method). Where the ray leaves the box the cell index
+  // leaves the grid and the walk ends.
+  double px = ox, py = oy;
+  if (!(ox >= origin_.x() && ox <= top_.x() && oy >= origin_.y() && oy <= top_.y())) {
+    double t0 = 0.0, t1 = max_range;
+    if (ux != 0.0) {
+      const double ta = (origin_.x() - ox) * inv_ux, tb = (top_.x() - ox) * inv_ux;
+      t0 = std::max(t0, std::min(ta, tb));
+      t1 = std::min(t1, std::max(ta, tb));
+    } else if (!(ox >= origin_.x() && ox <= top_.x())) {
+      return {limit, kNone};
+    }
+    if (uy != 0.0) {
+      const double ta = (origin_.y() - oy) * inv_uy, tb = (top_.y() - oy) * inv_uy;
+      t0 = std::max(t0, std::min(ta, tb));
+      t1 = std::min(t1, std::max(ta, tb));
+    } else if (!(oy >= origin_.y() && oy <= top_.y())) {
+      return {limit, kNone};
+    }
+    if (!(t0 <= t1)) return {limit, kNone};
+    px = ox + t0 * ux;
+    py = oy + t0 * uy;
   }
-  if (uy != 0.0) {
-    double ta = (origin_.y() - oy) * inv_uy, tb = (top_.y() - oy) * inv_uy;
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  } else if (!(oy >= origin_.y() && oy <= top_.y())) {
-    return best;
-  }
-  if (!(t0 <= t1)) return best;
 
   // Amanatides-Woo DDA from the entry cell.
-  const double px = ox + t0 * ux, py = oy + t0 * uy;
   int ix = std::clamp(static_cast<int>((px - origin_.x()) * inv_cell_), 0, nx_ - 1);
   int iy = std::clamp(static_cast<int>((py - origin_.y()) * inv_cell_), 0, ny_ - 1);
-  const int step_x = ux > 0 ? 1 : -1, step_y = uy > 0 ? 1 : -1;
   const double inf = std::numeric_limits<double>::infinity();
+  int step_x = 1, step_y = 1;
   double t_max_x = inf, t_max_y = inf, t_delta_x = inf, t_delta_y = inf;
-  if (ux != 0.0) {
-    const double bx = origin_.x() + (ix + (ux > 0 ? 1 : 0)) * cell_;
-    t_max_x = (bx - ox) * inv_ux;
-    t_delta_x = cell_ * std::abs(inv_ux);
+  if (ux > 0.0) {
+    t_max_x = (origin_.x() + (ix + 1) * cell_ - ox) * inv_ux;
+    t_delta_x = cell_ * inv_ux;
+  } else if (ux < 0.0) {
+    step_x = -1;
+    t_max_x = (origin_.x() + ix * cell_ - ox) * inv_ux;
+    t_delta_x = -cell_ * inv_ux;
   }
-  if (uy != 0.0) {
-    const double by = origin_.y() + (iy + (uy > 0 ? 1 : 0)) * cell_;
-    t_max_y = (by - oy) * inv_uy;
-    t_delta_y = cell_ * std::abs(inv_uy);
+  if (uy > 0.0) {
+    t_max_y = (origin_.y() + (iy + 1) * cell_ - oy) * inv_uy;
+    t_delta_y = cell_ * inv_uy;
+  } else if (uy < 0.0) {
+    step_y = -1;
+    t_max_y = (origin_.y() + iy * cell_ - oy) * inv_uy;
+    t_delta_y = -cell_ * inv_uy;
   }
+  const std::ptrdiff_t stride_y = static_cast<std::ptrdiff_t>(step_y) * nx_;
+  std::ptrdiff_t c = static_cast<std::ptrdiff_t>(iy) * nx_ + ix;
   const std::uint32_t* start = cell_start_.data();
   const Seg* items = items_.data();
   const std::uint32_t* ids = cell_items_.data();
-  const std::uint32_t skip_id = static_cast<std::uint32_t>(skip);  // -1 matches no real id
+  const auto skip_id = static_cast<std::uint32_t>(skip);  // -1 matches no real id
   for (;;) {
-    const std::size_t c = static_cast<std::size_t>(iy) * nx_ + ix;
+    // Best hit within this cell's list. Lists are in ascending segment id, so the strict '<'
+    // keeps the lowest id among equal ranges, as the brute force does.
+    double best_t = limit;
+    std::uint32_t best_k = 0;
     const std::uint32_t end = start[c + 1];
     for (std::uint32_t k = start[c]; k < end; ++k) {
-      double t;
-      if (intersect(ox, oy, ux, uy, items[k], t)) {
-        const std::uint32_t id = ids[k];
-        if (id == skip_id) continue;
-        const auto sid = static_cast<std::int32_t>(id);
-        if (t < best.t || (t == best.t && sid < best.id)) best = {t, sid};
-      }
+      const double t = hitParam(ox, oy, ux, uy, items[k]);
+      bool better = t < best_t;
+      if constexpr (kSkip) better = better && ids[k] != skip_id;
+      best_t = better ? t : best_t;
+      best_k = better ? k : best_k;
     }
     // A hit within this cell's part of the ray is the first one: every segment that could be
-    // hit earlier lies in a cell already visited.
+    // hit earlier lies in a cell already visited. A hit beyond it is forgotten: its point lies
+    // in a later cell, whose list holds the segment too. The ray also ends here when it reaches
+    // max_range (best_t == limit <= t_exit).
     const double t_exit = std::min(t_max_x, t_max_y);
-    if (best.t <= t_exit || t_exit >= t1) break;
+    if (best_t <= t_exit) {
+      return {best_t, best_t < limit ? static_cast<std::int32_t>(ids[best_k]) : kNone};
+    }
     if (t_max_x < t_max_y) {
       ix += step_x;
-      if (ix < 0 || ix >= nx_) break;
+      if (static_cast<unsigned>(ix) >= static_cast<unsigned>(nx_)) break;
+      c += step_x;
       t_max_x += t_delta_x;
     } else {
       iy += step_y;
-      if (iy < 0 || iy >= ny_) break;
+      if (static_cast<unsigned>(iy) >= static_cast<unsigned>(ny_)) break;
+      c += stride_y;
       t_max_y += t_delta_y;
     }
   }
-  return best;
+  return {limit, kNone};
+}
+
+RayCaster::Best RayCaster::walk(double ox, double oy, double ux, double uy, double max_range,
+                                std::int32_t skip) const {
+  return skip >= 0 ? walk<true>(ox, oy, ux, uy, max_range, skip)
+                   : walk<false>(ox, oy, ux, uy, max_range, skip);
 }
 
 RayCaster::Best RayCaster::brute(double ox, double oy, double ux, double uy, double max_range,
                                  std::int32_t skip) const {
-  Best best{max_range, kNone};
+  Best best{acceptLimit(max_range), kNone};
   if (!(max_range > 0)) return best;
   for (std::size_t i = 0; i < segs_.size(); ++i) {
     const auto sid = static_cast<std::int32_t>(i);
     if (sid == skip) continue;
-    double t;
-    if (intersect(ox, oy, ux, uy, segs_[i], t)) {
-      if (t < best.t || (t == best.t && sid < best.id)) best = {t, sid};
-    }
+    const double t = hitParam(ox, oy, ux, uy, segs_[i]);
+    if (t < best.t) best = {t, sid};  // strict: the lowest id wins ties
   }
   return best;
 }

@@ -75,6 +75,9 @@ class RayCaster {
     double t;
     std::int32_t id;
   };
+  template <bool kSkip>
+  Best walk(double ox, double oy, double ux, double uy, double max_range,
+            std::int32_t skip) const;
   Best walk(double ox, double oy, double ux, double uy, double max_range,
             std::int32_t skip) const;
   Best brute(double ox, double oy, double ux, double uy, double max_range,

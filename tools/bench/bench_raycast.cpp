@@ -1,0 +1,224 @@
+// Ray casting against the office-100m floor (2,266 segments), the query set of
+// ../shared/data/bench/README.md: 2,500 poses uniformly in free space (not within 0.2 m of a
+// segment, inside the floor), 61 beams over 270 degrees, 25 m max range. Reports rays/s.
+//
+//   build-geo/tools/bench_raycast [--benchmark_filter=...]
+// Environment: GLASSMAP_BENCH_MAP overrides the GeoJSON path.
+
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "glassmap/core/angles.hpp"
+#include "glassmap/geometry/ray_caster.hpp"
+
+using namespace glassmap;
+
+namespace {
+
+constexpr int kPoses = 2500;
+constexpr int kBeams = 61;
+constexpr double kFov = 1.5 * kPi;  // 270 degrees
+constexpr double kMaxRange = 25.0;
+constexpr double kClearance = 0.2;
+
+VectorMap loadMap() {
+  const char* env = std::getenv("GLASSMAP_BENCH_MAP");
+  const std::string path =
+      env ? env : GLASSMAP_SOURCE_DIR "/../shared/data/bench/office-100m.geojson";
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open " + path);
+  const nlohmann::json doc = nlohmann::json::parse(in);
+  VectorMap map;
+  for (const auto& f : doc.at("features")) {
+    const auto& coords = f.at("geometry").at("coordinates");
+    MapSegment proto;
+    proto.material = parseMaterial(f.at("properties").value("material", std::string("wall")));
+    proto.thickness = f.at("properties").value("thickness", 0.1);
+    for (std::size_t i = 1; i < coords.size(); ++i) {
+      MapSegment s = proto;
+      s.a = Vec2(coords[i - 1][0].get<double>(), coords[i - 1][1].get<double>());
+      s.b = Vec2(coords[i][0].get<double>(), coords[i][1].get<double>());
+      map.segments.push_back(s);
+    }
+  }
+  return map;
+}
+
+double distanceToSegment(const Vec2& p, const MapSegment& s) {
+  const Vec2 d = s.b - s.a;
+  const double len2 = d.squaredNorm();
+  const double u = len2 > 0 ? std::clamp((p - s.a).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (p - (s.a + u * d)).norm();
+}
+
+struct Query {
+  VectorMap map;
+  RayCaster caster;
+  std::vector<Pose2> poses;
+  std::vector<Vec2> beam_dirs;  // laser-frame unit directions
+};
+
+Query& query() {
+  static Query q = [] {
+    VectorMap map = loadMap();
+    RayCaster caster(map);
+    const Box2 box = map.bounds();
+    std::mt19937 rng(42);
+    std::uniform_real_distribution<double> ux(box.min.x(), box.max.x()), uy(box.min.y(), box.max.y());
+    std::uniform_real_distribution<double> heading(-kPi, kPi);
+    std::vector<Pose2> poses;
+    while (static_cast<int>(poses.size()) < kPoses) {
+      const Vec2 p(ux(rng), uy(rng));
+      bool free = true;
+      for (const auto& s : map.segments) {
+        if (distanceToSegment(p, s) < kClearance) {
+          free = false;
+          break;
+        }
+      }
+      // Inside the floor: enclosed in all four axis directions.
+      for (int k = 0; free && k < 4; ++k) {
+        free = caster.cast(p, k * kPi / 2, 1e9).hit();
+      }
+      if (free) poses.emplace_back(p, heading(rng));
+    }
+    std::vector<Vec2> dirs;
+    for (int k = 0; k < kBeams; ++k) {
+      const double a = -kFov / 2 + k * kFov / (kBeams - 1);
+      dirs.emplace_back(std::cos(a), std::sin(a));
+    }
+    return Query{std::move(map), std::move(caster), std::move(poses), std::move(dirs)};
+  }();
+  return q;
+}
+
+// Casts all beams of poses [begin, end) with `caster`; returns a checksum of the ranges.
+double castPoses(const RayCaster& caster, const Query& q, int begin, int end) {
+  double sum = 0.0;
+  for (int i = begin; i < end; ++i) {
+    const Pose2& pose = q.poses[static_cast<std::size_t>(i)];
+    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    for (const Vec2& b : q.beam_dirs) {
+      const Vec2 dir(c * b.x() - s * b.y(), s * b.x() + c * b.y());
+      const double r = caster.castRange(pose.t, dir, kMaxRange);
+      sum += std::isinf(r) ? kMaxRange : r;
+    }
+  }
+  return sum;
+}
+
+void BM_BuildIndex(benchmark::State& state) {
+  const Query& q = query();
+  for (auto _ : state) {
+    RayCaster caster(q.map);
+    benchmark::DoNotOptimize(caster.cellEntries());
+  }
+  state.counters["cell_m"] = q.caster.cellSize();
+  state.counters["cells"] = static_cast<double>(q.caster.cellsX()) * q.caster.cellsY();
+  state.counters["entries"] = static_cast<double>(q.caster.cellEntries());
+}
+BENCHMARK(BM_BuildIndex)->Unit(benchmark::kMillisecond);
+
+// The main figure: grid DDA, one thread, castRange with precomputed beam directions.
+void BM_GridRange(benchmark::State& state) {
+  const Query& q = query();
+  for (auto _ : state) benchmark::DoNotOptimize(castPoses(q.caster, q, 0, kPoses));
+  state.SetItemsProcessed(state.iterations() * kPoses * kBeams);
+  state.counters["cell_m"] = q.caster.cellSize();
+}
+BENCHMARK(BM_GridRange)->Unit(benchmark::kMillisecond);
+
+// Full RayHit (material, incidence) with sin/cos per beam: what a naive caller pays.
+void BM_GridCastAngle(benchmark::State& state) {
+  const Query& q = query();
+  for (auto _ : state) {
+    double sum = 0.0;
+    for (const Pose2& pose : q.poses) {
+      for (int k = 0; k < kBeams; ++k) {
+        const double a = pose.theta - kFov / 2 + k * kFov / (kBeams - 1);
+        const RayHit h = q.caster.cast(pose.t, a, kMaxRange);
+        sum += h.hit() ? h.range + h.incidence : kMaxRange;
+      }
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(state.iterations() * kPoses * kBeams);
+}
+BENCHMARK(BM_GridCastAngle)->Unit(benchmark::kMillisecond);
+
+// castScan: one sin/cos per scan, directions by rotation recurrence.
+void BM_GridScan(benchmark::State& state) {
+  const Query& q = query();
+  std::vector<double> ranges(kBeams);
+  for (auto _ : state) {
+    for (const Pose2& pose : q.poses) {
+      q.caster.castScan(pose.t, pose.theta - kFov / 2, kFov / (kBeams - 1), kBeams, kMaxRange,
+                        ranges.data());
+      benchmark::DoNotOptimize(ranges.data());
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * kPoses * kBeams);
+}
+BENCHMARK(BM_GridScan)->Unit(benchmark::kMillisecond);
+
+// Cell size sweep [cm]; 0 = automatic.
+void BM_GridCellSize(benchmark::State& state) {
+  const Query& q = query();
+  const RayCaster caster(q.map, {static_cast<double>(state.range(0)) / 100.0});
+  for (auto _ : state) benchmark::DoNotOptimize(castPoses(caster, q, 0, kPoses));
+  state.SetItemsProcessed(state.iterations() * kPoses * kBeams);
+  state.counters["cell_m"] = caster.cellSize();
+  state.counters["entries"] = static_cast<double>(caster.cellEntries());
+}
+BENCHMARK(BM_GridCellSize)->Arg(50)->Arg(100)->Arg(150)->Arg(200)->Arg(300)->Arg(500)
+    ->Unit(benchmark::kMillisecond);
+
+// Brute force over all segments: the reference, on the first 100 poses.
+void BM_BruteForce(benchmark::State& state) {
+  const Query& q = query();
+  constexpr int kSample = 100;
+  for (auto _ : state) {
+    double sum = 0.0;
+    for (int i = 0; i < kSample; ++i) {
+      const Pose2& pose = q.poses[static_cast<std::size_t>(i)];
+      const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+      for (const Vec2& b : q.beam_dirs) {
+        const Vec2 dir(c * b.x() - s * b.y(), s * b.x() + c * b.y());
+        const RayHit h = q.caster.castBruteForce(pose.t, dir, kMaxRange);
+        sum += h.hit() ? h.range : kMaxRange;
+      }
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(state.iterations() * kSample * kBeams);
+}
+BENCHMARK(BM_BruteForce)->Unit(benchmark::kMillisecond);
+
+// TBB parallel_for over poses with state.range(0) threads (wall-clock rate).
+void BM_GridParallel(benchmark::State& state) {
+  const Query& q = query();
+  const auto threads = static_cast<std::size_t>(state.range(0));
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  for (auto _ : state) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, kPoses, 16), [&](const tbb::blocked_range<int>& r) {
+      benchmark::DoNotOptimize(castPoses(q.caster, q, r.begin(), r.end()));
+    });
+  }
+  state.SetItemsProcessed(state.iterations() * kPoses * kBeams);
+  state.counters["threads"] = static_cast<double>(threads);
+}
+BENCHMARK(BM_GridParallel)->Arg(1)->Arg(2)->Arg(4)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
