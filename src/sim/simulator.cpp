@@ -82,7 +82,7 @@ struct BeamResult {
 };
 
 // Follows one beam through glass: direct return, specular reflection or transmission at each pane.
-BeamResult traceBeam(const RayCaster& caster, const Scene& scene, Vec2 origin, double angle,
+BeamResult traceBeam(const RayCaster& caster, const Scene& scene, Vec2 origin, Vec2 dir,
                      const std::vector<Vec2>& people, std::mt19937_64& rng) {
   const GlassPhysics& glass = scene.glass;
   const double max_range = scene.laser.max_range;
@@ -94,8 +94,7 @@ BeamResult traceBeam(const RayCaster& caster, const Scene& scene, Vec2 origin, d
   for (int bounce = 0; bounce <= glass.max_bounces; ++bounce) {
     const double remaining = max_range - path - elongation;
     if (remaining <= 0) break;
-    const RayHit hit = caster.cast(origin, angle, remaining, skip);
-    const Vec2 dir(std::cos(angle), std::sin(angle));
+    const RayHit hit = caster.cast(origin, dir, remaining, skip);
     double person = std::numeric_limits<double>::infinity();
     for (const Vec2& c : people) person = std::min(person, rayDisc(origin, dir, c, scene.people.radius));
     if (person < remaining && (!hit.hit() || person < hit.range))
@@ -118,8 +117,7 @@ BeamResult traceBeam(const RayCaster& caster, const Scene& scene, Vec2 origin, d
     if (uniform(rng) < p_reflect) {
       // Specular reflection: mirror the direction about the pane; the reading is the whole path.
       const Vec2 t = pane.direction();
-      const Vec2 mirrored = 2.0 * dir.dot(t) * t - dir;
-      angle = std::atan2(mirrored.y(), mirrored.x());
+      dir = (2.0 * dir.dot(t) * t - dir).normalized();
       reflected = true;
     } else {
       // Transmission: the beam goes on (lateral shift neglected), slowed inside the pane.
@@ -199,7 +197,7 @@ SimResult simulate(const Scene& scene, const SimOptions& options) {
     scan.has_odom = true;
     for (std::size_t i = 0; i < beams; ++i) {
       const double angle = T_map_laser.theta + scan.beamAngle(i);
-      BeamResult beam = traceBeam(caster, scene, T_map_laser.t, angle, people, rng);
+      BeamResult beam = traceBeam(caster, scene, T_map_laser.t, Vec2(std::cos(angle), std::sin(angle)), people, rng);
       if (beam.outcome != BeamOutcome::MaxRange) {
         beam.range += laser.range_sigma * gauss(rng);
         if (beam.range >= laser.max_range) beam.outcome = BeamOutcome::MaxRange;

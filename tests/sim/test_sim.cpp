@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+
+#include "glassmap/core/error.hpp"
 
 #include "glassmap/geometry/optics.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
