@@ -1,0 +1,92 @@
+#pragma once
+/// Pairwise MRF energy over a grid of cells (paper section 2.5.5): integer unary costs per cell
+/// and label, one label-pair cost table on the 8-neighbourhood (unit edge weights).
+///
+/// E(f) = sum_c unary[c][f_c] + sum_{c~d, 8-neighbours, each pair once} pairwise[f_c][f_d]
+///
+/// Costs are int32 in units of 1/kCostScale (a unary of 1 nat = kCostScale): max-flow on integer
+/// capacities is exact, so move energies and solver results are deterministic and comparable.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace glassmap::mrf {
+
+/// Integer cost units per unit of real cost (nats for unaries, Psi units for pairwise).
+inline constexpr double kCostScale = 1000.0;
+
+/// Label convention shared with grid/glass: 0 EMP, 1 OCC, 2+k GLS with pane normal at k*5 deg.
+inline constexpr int kEmpty = 0;                                 ///< free cell
+inline constexpr int kOccupied = 1;                              ///< wall / obstacle
+inline constexpr int kFirstGlass = 2;                            ///< GLS_0
+inline constexpr int kGlassBins = 36;                            ///< 5 deg bins over [0, 180)
+inline constexpr int kNumLabels = kFirstGlass + kGlassBins;      ///< 38
+inline constexpr int glassLabel(int k) { return kFirstGlass + k; }  ///< label of GLS at k*5 deg
+inline constexpr bool isGlass(int label) { return label >= kFirstGlass; }
+
+/// The energy of one labelling problem.
+struct LabelEnergy {
+  int width = 0;        ///< cells along x
+  int height = 0;       ///< cells along y
+  int num_labels = 0;   ///< labels per cell
+  std::vector<int32_t> unary;     ///< [cell * num_labels + label], cell = y * width + x
+  std::vector<int32_t> pairwise;  ///< [a * num_labels + b], symmetric, per 8-neighbour pair
+  /// Optional [cell]: 1 = solve this cell, 0 = keep its input label fixed. Empty = all active.
+  std::vector<uint8_t> active;
+  /// Optional [cell]: bit l set = label l is a candidate there (needs num_labels <= 64).
+  /// Solvers never move a cell to a label outside its set. Empty = every label everywhere.
+  std::vector<uint64_t> candidates;
+
+  std::size_t cells() const { return static_cast<std::size_t>(width) * height; }
+  int32_t u(std::size_t cell, int label) const { return unary[cell * num_labels + label]; }
+  int32_t psi(int a, int b) const { return pairwise[a * num_labels + b]; }
+  bool isActive(std::size_t cell) const { return active.empty() || active[cell] != 0; }
+  bool isCandidate(std::size_t cell, int label) const {
+    return candidates.empty() || ((candidates[cell] >> label) & 1U) != 0;
+  }
+};
+
+/// Weights of the glass pairwise table, in Psi units (scaled by kCostScale).
+struct PsiWeights {
+  double glass_glass = 3.0;   ///< two glass labels of different angle (paper: 3)
+  double glass_empty = 0.6;   ///< glass next to empty (paper: 0.6)
+  double glass_occ = 0.0;     ///< glass next to occupied (paper: 0, the "free buffer")
+  double empty_occ = 0.0;     ///< empty next to occupied (paper: 0)
+};
+
+/// Psi over {EMP, OCC, GLS_0..GLS_{bins-1}} from weights; symmetric, zero diagonal.
+std::vector<int32_t> makePsi(int num_glass_bins, const PsiWeights& w);
+
+/// The paper's Psi (section 2.5.5): w_diff between glass labels of different angle, w_glass_empty
+/// between glass and empty, 0 otherwise (OCC is free next to anything).
+std::vector<int32_t> paperPsi(int num_glass_bins, double w_diff = 3.0, double w_glass_empty = 0.6);
+
+/// Psi variants by name: "paper" (as above) or "closed" (glass next to OCC costs as much as glass
+/// next to EMP, removing OCC as a free buffer). Throws glassmap::Error for other names.
+std::vector<int32_t> psiByName(const std::string& name, int num_glass_bins);
+
+/// Checks sizes and symmetry; throws glassmap::Error naming the field otherwise.
+void validate(const LabelEnergy& e);
+
+/// E(labels), straightforward sum over every cell and every 8-neighbour pair.
+int64_t energy(const LabelEnergy& e, const std::vector<uint16_t>& labels);
+
+/// Per cell the label of least unary cost (ties: lowest label).
+std::vector<uint16_t> argminLabels(const LabelEnergy& e);
+
+/// Fills e.candidates. margin < 0: lossless pruning, a label is dropped only where some other label
+/// beats it whatever the neighbours are (unary gap > 8 * max_n Psi gap), so no minimiser uses it.
+/// margin >= 0: keep labels whose unary is within margin of the cell's best (lossy if small).
+/// Returns the number of (cell, label) candidate pairs kept.
+std::size_t restrictCandidates(LabelEnergy& e, int64_t margin = -1);
+
+/// Writes the binary instance: uint32 width, height, labels; int32 unary[cells x labels];
+/// int32 pairwise[labels x labels]; little-endian, 8-neighbourhood, unit edge weights.
+/// Atomic (temporary name, then rename). Mask and candidate sets are not stored.
+void writeInstance(const std::string& path, const LabelEnergy& e);
+
+/// Reads a file written by writeInstance; throws glassmap::Error on a short or malformed file.
+LabelEnergy readInstance(const std::string& path);
+
+}  // namespace glassmap::mrf

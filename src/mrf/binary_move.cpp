@@ -1,0 +1,212 @@
+#include "binary_move.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <boost/graph/boykov_kolmogorov_max_flow.hpp>
+#include <boost/graph/compressed_sparse_row_graph.hpp>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace glassmap::mrf::detail {
+namespace {
+
+using Graph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property,
+                                                 boost::no_property, boost::no_property,
+                                                 uint32_t, uint32_t>;
+using Edge = boost::graph_traits<Graph>::edge_descriptor;
+
+}  // namespace
+
+std::vector<uint32_t> movableCells(const LabelEnergy& e) {
+  std::vector<uint32_t> cells;
+  for (std::size_t c = 0; c < e.cells(); ++c) {
+    if (!e.isActive(c)) continue;
+    if (!e.candidates.empty() && std::popcount(e.candidates[c]) < 2) continue;
+    cells.push_back(static_cast<uint32_t>(c));
+  }
+  return cells;
+}
+
+BinaryMoveSolver::BinaryMoveSolver(const LabelEnergy& e) : e_(e), node_of_(e.cells(), -1) {}
+
+void BinaryMoveSolver::clear() {
+  vars_.clear();
+  l0_.clear();
+  l1_.clear();
+}
+
+void BinaryMoveSolver::add(uint32_t cell, uint16_t label0, uint16_t label1) {
+  vars_.push_back(cell);
+  l0_.push_back(label0);
+  l1_.push_back(label1);
+}
+
+int64_t BinaryMoveSolver::changeEnergy(const std::vector<uint16_t>& labels) const {
+  // E(next) - E(current) from the labels alone: every term that touches a changed variable,
+  // pairs of two changed variables once (at the lower index).
+  const int w = e_.width, h = e_.height;
+  auto label = [&](std::size_t k, bool next) { return (next ? next_[k] : cur_[k]) ? l1_[k] : l0_[k]; };
+  int64_t delta = 0;
+  for (std::size_t k = 0; k < vars_.size(); ++k) {
+    if (next_[k] == cur_[k]) continue;
+    const uint32_t c = vars_[k];
+    const int old_l = label(k, false), new_l = label(k, true);
+    delta += int64_t{e_.u(c, new_l)} - e_.u(c, old_l);
+    const int x = static_cast<int>(c % w), y = static_cast<int>(c / w);
+    for (int d = 0; d < 8; ++d) {
+      const int nx = x + kDx[d], ny = y + kDy[d];
+      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+      const std::size_t nc = static_cast<std::size_t>(ny) * w + nx;
+      const int32_t j = node_of_[nc];
+      if (j < 0) {
+        delta += int64_t{e_.psi(new_l, labels[nc])} - e_.psi(old_l, labels[nc]);
+      } else if (next_[j] == cur_[j]) {
+        const int lj = label(j, false);
+        delta += int64_t{e_.psi(new_l, lj)} - e_.psi(old_l, lj);
+      } else if (static_cast<std::size_t>(j) > k) {
+        delta += int64_t{e_.psi(new_l, label(j, true))} - e_.psi(old_l, label(j, false));
+      }
+    }
+  }
+  return delta;
+}
+
+MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
+  MoveOutcome out;
+  changed_.clear();
+  const uint32_t n = static_cast<uint32_t>(vars_.size());
+  if (n == 0) return out;
+  const int w = e_.width, h = e_.height;
+  for (uint32_t k = 0; k < n; ++k) node_of_[vars_[k]] = static_cast<int32_t>(k);
+  cur_.assign(n, 0);
+  for (uint32_t k = 0; k < n; ++k) {
+    const uint16_t l = labels[vars_[k]];
+    if (l != l0_[k] && l != l1_[k]) throw std::logic_error("move variable not at one of its labels");
+    cur_[k] = (l == l0_[k]) ? 0 : 1;
+  }
+
+  // Arcs sorted by source: per variable its arcs to variable neighbours, then to s and t;
+  // then s -> every variable, t -> every variable. Vertices: variables 0..n-1, s = n, t = n + 1.
+  const uint32_t s = n, t = n + 1;
+  std::vector<std::pair<uint32_t, uint32_t>> arcs;
+  arcs.reserve(static_cast<std::size_t>(n) * 6);
+  arc_dir_.assign(static_cast<std::size_t>(n) * 8, -1);
+  tarc_.resize(n);
+  th0_.assign(n, 0);
+  th1_.assign(n, 0);
+  int64_t e_cur = 0;  // current energy of every term that touches a variable, each once
+  for (uint32_t k = 0; k < n; ++k) {
+    const uint32_t c = vars_[k];
+    const int x = static_cast<int>(c % w), y = static_cast<int>(c / w);
+    th0_[k] += e_.u(c, l0_[k]);
+    th1_[k] += e_.u(c, l1_[k]);
+    e_cur += e_.u(c, labels[c]);
+    for (int d = 0; d < 8; ++d) {
+      const int nx = x + kDx[d], ny = y + kDy[d];
+      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+      const std::size_t nc = static_cast<std::size_t>(ny) * w + nx;
+      const int32_t j = node_of_[nc];
+      if (j >= 0) {
+        arc_dir_[k * 8 + d] = static_cast<int32_t>(arcs.size());
+        arcs.emplace_back(k, static_cast<uint32_t>(j));
+        if (static_cast<uint32_t>(j) > k) e_cur += e_.psi(labels[c], labels[nc]);
+      } else {  // fixed neighbour: its pair term is a unary of this variable
+        th0_[k] += e_.psi(l0_[k], labels[nc]);
+        th1_[k] += e_.psi(l1_[k], labels[nc]);
+        e_cur += e_.psi(labels[c], labels[nc]);
+      }
+    }
+    tarc_[k] = static_cast<uint32_t>(arcs.size());
+    arcs.emplace_back(k, s);
+    arcs.emplace_back(k, t);
+  }
+  const uint32_t base_s = static_cast<uint32_t>(arcs.size());
+  for (uint32_t k = 0; k < n; ++k) arcs.emplace_back(s, k);
+  const uint32_t base_t = static_cast<uint32_t>(arcs.size());
+  for (uint32_t k = 0; k < n; ++k) arcs.emplace_back(t, k);
+
+  std::vector<int64_t> cap(arcs.size(), 0), res(arcs.size(), 0);
+  std::vector<Edge> rev(arcs.size());
+  int64_t constant = 0;
+  // Pair terms (Kolmogorov & Zabih 2004): E(x_k, x_j) with A=E(0,0), B=E(0,1), C=E(1,0), D=E(1,1)
+  // becomes A + (C-A) x_k + (D-C) x_j + (B+C-A-D) [x_k=0, x_j=1]; x = 0 is the source side.
+  for (uint32_t k = 0; k < n; ++k) {
+    for (int d = 0; d < 8; ++d) {
+      const int32_t a = arc_dir_[k * 8 + d];
+      if (a < 0) continue;
+      const uint32_t j = arcs[a].second;
+      rev[a] = Edge(j, static_cast<uint32_t>(arc_dir_[j * 8 + (7 - d)]));
+      if (j < k) continue;  // each pair once
+      int64_t A = e_.psi(l0_[k], l0_[j]), B = e_.psi(l0_[k], l1_[j]);
+      int64_t C = e_.psi(l1_[k], l0_[j]), D = e_.psi(l1_[k], l1_[j]);
+      const int64_t deficit = A + D - B - C;
+      if (deficit > 0) {
+        // Raise the off-diagonal entries the current labelling does not use (Rother et al. 2005):
+        // E' >= E and E'(current) = E(current).
+        const bool b_used = cur_[k] == 0 && cur_[j] == 1, c_used = cur_[k] == 1 && cur_[j] == 0;
+        if (b_used) {
+          C += deficit;
+        } else if (c_used) {
+          B += deficit;
+        } else {
+          B += deficit / 2;
+          C += deficit - deficit / 2;
+        }
+        ++out.truncated;
+      }
+      constant += A;
+      th1_[k] += C - A;
+      th1_[j] += D - C;
+      cap[a] += B + C - A - D;
+    }
+  }
+  for (uint32_t k = 0; k < n; ++k) {
+    const int64_t m = std::min(th0_[k], th1_[k]);
+    constant += m;
+    cap[base_s + k] = th1_[k] - m;  // s -> k is cut when x_k = 1
+    cap[tarc_[k] + 1] = th0_[k] - m;  // k -> t is cut when x_k = 0
+    rev[base_s + k] = Edge(k, tarc_[k]);
+    rev[tarc_[k]] = Edge(s, base_s + k);
+    rev[base_t + k] = Edge(k, tarc_[k] + 1);
+    rev[tarc_[k] + 1] = Edge(t, base_t + k);
+  }
+
+  const Graph g(boost::edges_are_sorted, arcs.begin(), arcs.end(), n + 2);
+  std::vector<boost::default_color_type> color(n + 2);
+  std::vector<Edge> pred(n + 2);
+  std::vector<long> dist(n + 2);
+  const auto eidx = get(boost::edge_index, g);
+  const auto vidx = get(boost::vertex_index, g);
+  const int64_t flow = boost::boykov_kolmogorov_max_flow(
+      g, boost::make_iterator_property_map(cap.begin(), eidx),
+      boost::make_iterator_property_map(res.begin(), eidx),
+      boost::make_iterator_property_map(rev.begin(), eidx),
+      boost::make_iterator_property_map(pred.begin(), vidx),
+      boost::make_iterator_property_map(color.begin(), vidx),
+      boost::make_iterator_property_map(dist.begin(), vidx), vidx, s, t);
+
+  // Source side = the source tree (black) = vertices reachable from s in the residual graph.
+  next_.resize(n);
+  for (uint32_t k = 0; k < n; ++k)
+    next_[k] = color[k] == boost::color_traits<boost::default_color_type>::black() ? 0 : 1;
+
+  const int64_t delta_exact = changeEnergy(labels);
+  const int64_t delta_cut = constant + flow - e_cur;
+  if (out.truncated == 0 && delta_cut != delta_exact)
+    throw std::logic_error("graph-cut move energy " + std::to_string(delta_cut) +
+                           " differs from direct energy " + std::to_string(delta_exact));
+  if (delta_exact < 0) {
+    for (uint32_t k = 0; k < n; ++k) {
+      if (next_[k] == cur_[k]) continue;
+      labels[vars_[k]] = next_[k] ? l1_[k] : l0_[k];
+      changed_.push_back(vars_[k]);
+    }
+    out.delta = out.truncated == 0 ? delta_cut : delta_exact;
+    out.changed = true;
+  }
+  for (uint32_t k = 0; k < n; ++k) node_of_[vars_[k]] = -1;
+  return out;
+}
+
+}  // namespace glassmap::mrf::detail

@@ -1,0 +1,191 @@
+#include "glassmap/mrf/energy.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
+
+namespace glassmap::mrf {
+namespace {
+
+int32_t scaled(double cost) { return static_cast<int32_t>(std::lround(cost * kCostScale)); }
+
+// Forward half of the 8-neighbourhood: each unordered neighbour pair is visited once.
+constexpr int kForward[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+
+}  // namespace
+
+std::vector<int32_t> makePsi(int num_glass_bins, const PsiWeights& w) {
+  if (num_glass_bins < 1) throw Error("need at least one glass bin", {}, 0, "num_glass_bins");
+  const int n = kFirstGlass + num_glass_bins;
+  std::vector<int32_t> psi(static_cast<std::size_t>(n) * n, 0);
+  auto set = [&](int a, int b, double v) {
+    psi[a * n + b] = scaled(v);
+    psi[b * n + a] = scaled(v);
+  };
+  set(kEmpty, kOccupied, w.empty_occ);
+  for (int a = kFirstGlass; a < n; ++a) {
+    set(a, kEmpty, w.glass_empty);
+    set(a, kOccupied, w.glass_occ);
+    for (int b = kFirstGlass; b < n; ++b) {
+      if (a != b) set(a, b, w.glass_glass);
+    }
+  }
+  return psi;
+}
+
+std::vector<int32_t> paperPsi(int num_glass_bins, double w_diff, double w_glass_empty) {
+  PsiWeights w;
+  w.glass_glass = w_diff;
+  w.glass_empty = w_glass_empty;
+  return makePsi(num_glass_bins, w);
+}
+
+std::vector<int32_t> psiByName(const std::string& name, int num_glass_bins) {
+  if (name == "paper") return paperPsi(num_glass_bins);
+  if (name == "closed") {
+    PsiWeights w;
+    w.glass_occ = w.glass_empty;
+    return makePsi(num_glass_bins, w);
+  }
+  if (name == "neutral") {
+    PsiWeights w;
+    w.empty_occ = w.glass_empty;
+    return makePsi(num_glass_bins, w);
+  }
+  throw Error("unknown Psi '" + name + "' (expected paper, closed or neutral)", {}, 0, "psi");
+}
+
+void validate(const LabelEnergy& e) {
+  if (e.width <= 0 || e.height <= 0) throw Error("grid size must be positive", {}, 0, "width/height");
+  if (e.num_labels < 1 || e.num_labels > 65535) throw Error("label count out of range", {}, 0, "num_labels");
+  if (e.unary.size() != e.cells() * e.num_labels)
+    throw Error("expected cells x labels unary costs", {}, 0, "unary");
+  if (e.pairwise.size() != static_cast<std::size_t>(e.num_labels) * e.num_labels)
+    throw Error("expected labels x labels pairwise costs", {}, 0, "pairwise");
+  for (int a = 0; a < e.num_labels; ++a)
+    for (int b = 0; b < a; ++b)
+      if (e.psi(a, b) != e.psi(b, a)) throw Error("pairwise table is not symmetric", {}, 0, "pairwise");
+  if (!e.active.empty() && e.active.size() != e.cells())
+    throw Error("active mask must have one entry per cell", {}, 0, "active");
+  if (!e.candidates.empty()) {
+    if (e.candidates.size() != e.cells())
+      throw Error("candidate sets must have one entry per cell", {}, 0, "candidates");
+    if (e.num_labels > 64) throw Error("candidate sets need at most 64 labels", {}, 0, "candidates");
+  }
+}
+
+int64_t energy(const LabelEnergy& e, const std::vector<uint16_t>& labels) {
+  if (labels.size() != e.cells()) throw Error("one label per cell expected", {}, 0, "labels");
+  int64_t total = 0;
+  for (int y = 0; y < e.height; ++y) {
+    for (int x = 0; x < e.width; ++x) {
+      const std::size_t c = static_cast<std::size_t>(y) * e.width + x;
+      const int lc = labels[c];
+      total += e.u(c, lc);
+      for (const auto& d : kForward) {
+        const int nx = x + d[0], ny = y + d[1];
+        if (nx < 0 || nx >= e.width || ny >= e.height) continue;
+        total += e.psi(lc, labels[static_cast<std::size_t>(ny) * e.width + nx]);
+      }
+    }
+  }
+  return total;
+}
+
+std::vector<uint16_t> argminLabels(const LabelEnergy& e) {
+  std::vector<uint16_t> labels(e.cells());
+  for (std::size_t c = 0; c < e.cells(); ++c) {
+    const int32_t* row = &e.unary[c * e.num_labels];
+    labels[c] = static_cast<uint16_t>(std::min_element(row, row + e.num_labels) - row);
+  }
+  return labels;
+}
+
+std::size_t restrictCandidates(LabelEnergy& e, int64_t margin) {
+  validate(e);
+  if (e.num_labels > 64) throw Error("candidate sets need at most 64 labels", {}, 0, "candidates");
+  const int n = e.num_labels;
+  // gap[l][m] = 8 * max_n (Psi(l, n) - Psi(m, n)): the most the neighbours can favour l over m.
+  std::vector<int64_t> gap(static_cast<std::size_t>(n) * n, 0);
+  for (int l = 0; l < n; ++l)
+    for (int m = 0; m < n; ++m) {
+      int64_t g = std::numeric_limits<int64_t>::min();
+      for (int k = 0; k < n; ++k) g = std::max<int64_t>(g, int64_t{e.psi(m, k)} - e.psi(l, k));
+      gap[l * n + m] = 8 * std::max<int64_t>(g, 0);  // cells have at most 8 neighbours
+    }
+  e.candidates.assign(e.cells(), 0);
+  std::size_t kept = 0;
+  for (std::size_t c = 0; c < e.cells(); ++c) {
+    const int32_t* row = &e.unary[c * n];
+    const int best = static_cast<int>(std::min_element(row, row + n) - row);
+    uint64_t set = 0;
+    for (int l = 0; l < n; ++l) {
+      const int64_t excess = int64_t{row[l]} - row[best];
+      // Lossless: l is dominated by best when its unary excess exceeds anything the neighbours
+      // can give back by switching from best to l; then best strictly improves any labelling.
+      const bool keep = margin < 0 ? excess <= gap[l * n + best] : excess <= margin;
+      if (keep || l == best) set |= uint64_t{1} << l;
+    }
+    e.candidates[c] = set;
+    kept += static_cast<std::size_t>(std::popcount(set));
+  }
+  return kept;
+}
+
+void writeInstance(const std::string& path, const LabelEnergy& e) {
+  validate(e);
+  std::string bytes;
+  bytes.reserve(12 + 4 * (e.unary.size() + e.pairwise.size()));
+  auto put = [&](uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<char>((v >> (8 * i)) & 0xFFU));
+  };
+  put(static_cast<uint32_t>(e.width));
+  put(static_cast<uint32_t>(e.height));
+  put(static_cast<uint32_t>(e.num_labels));
+  for (int32_t v : e.unary) put(static_cast<uint32_t>(v));
+  for (int32_t v : e.pairwise) put(static_cast<uint32_t>(v));
+  writeAtomically(path, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!out.flush()) throw Error("cannot write instance file", tmp.string());
+  });
+}
+
+LabelEnergy readInstance(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot open instance file", path);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::size_t pos = 0;
+  auto get = [&](const char* field) {
+    if (pos + 4 > bytes.size()) throw Error("file ends early", path, 0, field);
+    uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= uint32_t{static_cast<unsigned char>(bytes[pos + i])} << (8 * i);
+    pos += 4;
+    return v;
+  };
+  LabelEnergy e;
+  const uint32_t w = get("width"), h = get("height"), l = get("labels");
+  if (w == 0 || h == 0 || w > (1U << 16) || h > (1U << 16) || l == 0 || l > 65535)
+    throw Error("implausible header", path, 0, "width/height/labels");
+  e.width = static_cast<int>(w);
+  e.height = static_cast<int>(h);
+  e.num_labels = static_cast<int>(l);
+  const std::size_t expected = 12 + 4 * (e.cells() * l + std::size_t{l} * l);
+  if (bytes.size() != expected)
+    throw Error("size " + std::to_string(bytes.size()) + " bytes, header implies " +
+                    std::to_string(expected), path, 0, "unary/pairwise");
+  e.unary.resize(e.cells() * l);
+  for (auto& v : e.unary) v = static_cast<int32_t>(get("unary"));
+  e.pairwise.resize(std::size_t{l} * l);
+  for (auto& v : e.pairwise) v = static_cast<int32_t>(get("pairwise"));
+  validate(e);
+  return e;
+}
+
+}  // namespace glassmap::mrf

@@ -1,0 +1,222 @@
+#include <chrono>
+#include <ctime>
+#include <cstdlib>
+
+#include "binary_move.hpp"
+#include "glassmap/core/error.hpp"
+#include "glassmap/mrf/solver.hpp"
+
+namespace glassmap::mrf {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+void checkInput(const LabelEnergy& e, const std::vector<uint16_t>& labels) {
+  validate(e);
+  if (labels.size() != e.cells()) throw Error("one start label per cell expected", {}, 0, "labels");
+  for (uint16_t l : labels)
+    if (l >= e.num_labels) throw Error("start label out of range", {}, 0, "labels");
+}
+
+/// Runs cycles of `cycle` (which returns the energy gained) until the gain is small.
+template <typename Cycle>
+void runCycles(const MrfOptions& o, MrfResult& r, Cycle&& cycle) {
+  while (r.cycles < o.max_cycles) {
+    const int64_t before = r.energy;
+    cycle();
+    ++r.cycles;
+    const int64_t gain = before - r.energy;
+    if (gain <= 0 || static_cast<double>(gain) < o.min_cycle_gain * std::llabs(before)) {
+      r.converged = true;
+      break;
+    }
+  }
+}
+
+/// Alpha-beta swap (Boykov, Veksler, Zabih 2001): for every label pair, the cells labelled alpha
+/// or beta (and for which the other label is a candidate) choose between the two by one min-cut.
+/// Needs Psi(a,b) + Psi(b,a) >= Psi(a,a) + Psi(b,b) (true for Psi >= 0 with zero diagonal):
+/// then every move is the exact optimal swap and the result is a swap-local minimum.
+class SwapSolver final : public MrfSolver {
+ public:
+  explicit SwapSolver(MrfOptions o) : o_(o) {}
+  std::string name() const override { return "swap"; }
+
+  MrfResult solve(const LabelEnergy& e, std::vector<uint16_t>& labels) override {
+    const auto t0 = Clock::now();
+    const std::clock_t c0 = std::clock();
+    checkInput(e, labels);
+    MrfResult r;
+    r.initial_energy = r.energy = energy(e, labels);
+    const int L = e.num_labels;
+    // Movable cells bucketed by current label; a swap only moves cells between its two buckets.
+    std::vector<std::vector<uint32_t>> bucket(L);
+    for (uint32_t c : detail::movableCells(e)) bucket[labels[c]].push_back(c);
+    detail::BinaryMoveSolver move(e);
+    std::vector<uint32_t> merged;
+    // A swap's move problem depends only on the cells labelled a or b and their neighbours'
+    // labels. stamp[l] = last time a cell labelled l, or next to one, changed; a pair whose last
+    // run found nothing and whose labels are unstamped since would find nothing again: skip it.
+    int64_t now = 1;
+    std::vector<int64_t> stamp(L, 1), last_run(static_cast<std::size_t>(L) * L, 0);
+    const int w = e.width, h = e.height;
+    runCycles(o_, r, [&] {
+      for (int a = 0; a < L; ++a) {
+        for (int b = a + 1; b < L; ++b) {
+          if (bucket[a].empty() && bucket[b].empty()) continue;
+          int64_t& last = last_run[a * L + b];
+          if (stamp[a] < last && stamp[b] < last) continue;
+          move.clear();
+          for (uint32_t c : bucket[a])
+            if (e.isCandidate(c, b)) move.add(c, static_cast<uint16_t>(a), static_cast<uint16_t>(b));
+          for (uint32_t c : bucket[b])
+            if (e.isCandidate(c, a)) move.add(c, static_cast<uint16_t>(a), static_cast<uint16_t>(b));
+          const detail::MoveOutcome m = move.run(labels);
+          r.truncated_terms += m.truncated;
+          ++now;
+          if (m.changed) {
+            r.energy += m.delta;
+            ++r.moves;
+            for (uint32_t c : move.changedCells()) {
+              stamp[a] = stamp[b] = now;
+              const int x = static_cast<int>(c % w), y = static_cast<int>(c / w);
+              for (int d = 0; d < 8; ++d) {
+                const int nx = x + detail::kDx[d], ny = y + detail::kDy[d];
+                if (nx >= 0 && ny >= 0 && nx < w && ny < h) stamp[labels[ny * w + nx]] = now;
+              }
+            }
+            merged.clear();
+            merged.insert(merged.end(), bucket[a].begin(), bucket[a].end());
+            merged.insert(merged.end(), bucket[b].begin(), bucket[b].end());
+            bucket[a].clear();
+            bucket[b].clear();
+            for (uint32_t c : merged) bucket[labels[c]].push_back(c);
+          }
+          // An exact optimal swap repeated at once finds nothing; a truncated one might.
+          last = m.truncated == 0 ? ++now : now;
+        }
+      }
+    });
+    r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    r.cpu_seconds = double(std::clock() - c0) / CLOCKS_PER_SEC;
+    return r;
+  }
+
+ private:
+  MrfOptions o_;
+};
+
+/// Alpha-expansion (Boykov, Veksler, Zabih 2001): for every label alpha, the cells where alpha is a
+/// candidate either keep their label or take alpha, by one min-cut. Pair terms that are not
+/// submodular for a move (with the paper's Psi: expanding EMP or OCC across two glass labels of
+/// different angle) are truncated as in Rother et al. 2005: the move never raises E, but it is no
+/// longer the optimal expansion, so neither expansion-local optimality nor the factor-2 bound
+/// of metric energies holds for those labels. MrfResult::truncated_terms counts them.
+class ExpansionSolver final : public MrfSolver {
+ public:
+  explicit ExpansionSolver(MrfOptions o) : o_(o) {}
+  std::string name() const override { return "expansion"; }
+
+  MrfResult solve(const LabelEnergy& e, std::vector<uint16_t>& labels) override {
+    const auto t0 = Clock::now();
+    const std::clock_t c0 = std::clock();
+    checkInput(e, labels);
+    MrfResult r;
+    r.initial_energy = r.energy = energy(e, labels);
+    const int L = e.num_labels;
+    // Per label the movable cells where it is a candidate (fixed for the whole solve).
+    std::vector<std::vector<uint32_t>> where(L);
+    for (uint32_t c : detail::movableCells(e))
+      for (int l = 0; l < L; ++l)
+        if (e.isCandidate(c, l)) where[l].push_back(c);
+    detail::BinaryMoveSolver move(e);
+    runCycles(o_, r, [&] {
+      for (int a = 0; a < L; ++a) {
+        move.clear();
+        for (uint32_t c : where[a])
+          if (labels[c] != a) move.add(c, labels[c], static_cast<uint16_t>(a));
+        const detail::MoveOutcome m = move.run(labels);
+        r.truncated_terms += m.truncated;
+        if (!m.changed) continue;
+        r.energy += m.delta;
+        ++r.moves;
+      }
+    });
+    r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    r.cpu_seconds = double(std::clock() - c0) / CLOCKS_PER_SEC;
+    return r;
+  }
+
+ private:
+  MrfOptions o_;
+};
+
+/// Iterated conditional modes (Besag 1986): cells in scan order take their best candidate label
+/// given their neighbours, while that strictly lowers E.
+class IcmSolver final : public MrfSolver {
+ public:
+  explicit IcmSolver(MrfOptions o) : o_(o) {}
+  std::string name() const override { return "icm"; }
+
+  MrfResult solve(const LabelEnergy& e, std::vector<uint16_t>& labels) override {
+    const auto t0 = Clock::now();
+    const std::clock_t c0 = std::clock();
+    checkInput(e, labels);
+    MrfResult r;
+    r.initial_energy = r.energy = energy(e, labels);
+    const std::vector<uint32_t> cells = detail::movableCells(e);
+    const int w = e.width, h = e.height, L = e.num_labels;
+    int neighbours[8];
+    runCycles(o_, r, [&] {
+      for (uint32_t c : cells) {
+        const int x = static_cast<int>(c % w), y = static_cast<int>(c / w);
+        int count = 0;
+        for (int d = 0; d < 8; ++d) {
+          const int nx = x + detail::kDx[d], ny = y + detail::kDy[d];
+          if (nx >= 0 && ny >= 0 && nx < w && ny < h) neighbours[count++] = labels[ny * w + nx];
+        }
+        auto local = [&](int l) {
+          int64_t v = e.u(c, l);
+          for (int i = 0; i < count; ++i) v += e.psi(l, neighbours[i]);
+          return v;
+        };
+        const int old = labels[c];
+        int best = old;
+        int64_t best_v = local(old);
+        for (int l = 0; l < L; ++l) {
+          if (l == old || !e.isCandidate(c, l)) continue;
+          const int64_t v = local(l);
+          if (v < best_v) {
+            best_v = v;
+            best = l;
+          }
+        }
+        if (best != old) {
+          r.energy += best_v - local(old);
+          labels[c] = static_cast<uint16_t>(best);
+          ++r.moves;
+        }
+      }
+    });
+    r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    r.cpu_seconds = double(std::clock() - c0) / CLOCKS_PER_SEC;
+    return r;
+  }
+
+ private:
+  MrfOptions o_;
+};
+
+}  // namespace
+
+std::unique_ptr<MrfSolver> makeSolver(const std::string& name, const MrfOptions& options) {
+  if (name == "swap") return std::make_unique<SwapSolver>(options);
+  if (name == "expansion") return std::make_unique<ExpansionSolver>(options);
+  if (name == "icm") return std::make_unique<IcmSolver>(options);
+  throw Error("unknown MRF solver '" + name + "' (expected swap, expansion or icm)", {}, 0,
+              "solver");
+}
+
+std::vector<std::string> solverNames() { return {"icm", "swap", "expansion"}; }
+
+}  // namespace glassmap::mrf
