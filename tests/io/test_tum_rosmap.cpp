@@ -155,3 +155,34 @@ TEST(RosMap, ErrorsNameTheYaml) {
 
 }  // namespace
 }  // namespace glassmap
+
+#include <gdal_priv.h>
+
+namespace glassmap {
+namespace {
+
+TEST(RosMap, ReadsPngThroughGdal) {
+  GDALAllRegister();
+  test::TempDir dir;
+  const auto png = dir / "m.png";
+  {
+    GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
+    GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("PNG");
+    ASSERT_TRUE(mem && drv);
+    GDALDatasetUniquePtr src(mem->Create("", 2, 2, 1, GDT_Byte, nullptr));
+    unsigned char px[4] = {0, 254, 205, 254};  // top row: occupied, free; bottom row: unknown, free
+    ASSERT_EQ(src->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 2, 2, px, 2, 2, GDT_Byte, 0, 0, nullptr), CE_None);
+    GDALDatasetUniquePtr out(drv->CreateCopy(png.string().c_str(), src.get(), FALSE, nullptr, nullptr, nullptr));
+    ASSERT_TRUE(out);
+  }
+  dir.write("m.yaml", "image: m.png\nresolution: 0.5\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  const OccupancyGridMap m = readRosMap(dir / "m.yaml");
+  ASSERT_EQ(m.width, 2);
+  EXPECT_EQ(m.at(0, 1), 100);
+  EXPECT_EQ(m.at(1, 1), 0);
+  EXPECT_EQ(m.at(0, 0), -1);
+  EXPECT_EQ(m.at(1, 0), 0);
+}
+
+}  // namespace
+}  // namespace glassmap

@@ -1,0 +1,66 @@
+#include <gtest/gtest.h>
+
+#include "glassmap/core/angles.hpp"
+#include "glassmap/io/log_summary.hpp"
+#include "io_test_util.hpp"
+
+namespace glassmap {
+namespace {
+
+TEST(IoLogSummary, SyntheticFigures) {
+  test::TempDir dir;
+  // Three FLASER scans (181, 181, 361 beams) along x: 0 -> 3 -> 3 (then back in time once),
+  // one ODOM at t=0.5 and one at t=20, a NEFF line, ranges with a no-return and a max reading.
+  auto scan = [](int n, double x, double y, double t, const std::string& first) {
+    std::string line = "FLASER " + std::to_string(n) + " " + first;
+    for (int i = 1; i < n; ++i) line += " 2.5";
+    line += " " + std::to_string(x) + " " + std::to_string(y) + " 0 0 0 0 " + std::to_string(t) + " h 0\n";
+    return line;
+  };
+  const auto p = dir.write("s.clf", "ODOM 0 0 0 0 0 0 0.5 h 0\n" + scan(181, 0, 0, 1.0, "nan") +
+                                        scan(181, 3, 0, 2.0, "80") + "NEFF 3\n" + scan(361, 3, 4, 1.5, "1") +
+                                        "ODOM 3 4 0 0 0 0 20 h 0\n");
+  const LogSummary s = summarizeCarmenLog(p);
+  EXPECT_EQ(s.scans, 3u);
+  EXPECT_EQ(s.beams_min, 181u);
+  EXPECT_EQ(s.beams_max, 361u);
+  EXPECT_NEAR(rad2deg(s.fov_min), 180.0, 1e-9);
+  EXPECT_NEAR(rad2deg(s.step_min), 0.5, 1e-12);
+  EXPECT_NEAR(rad2deg(s.step_max), 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(s.max_range_max, 80.0);
+  EXPECT_EQ(s.max_readings, 1u);
+  EXPECT_DOUBLE_EQ(s.longest_return, 2.5);
+  EXPECT_EQ(s.stats.no_return_ranges, 1u);
+  EXPECT_DOUBLE_EQ(s.t_first, 0.5);
+  EXPECT_DOUBLE_EQ(s.t_last, 20.0);
+  EXPECT_DOUBLE_EQ(s.duration(), 19.5);
+  EXPECT_EQ(s.time_reversals, 1u);
+  EXPECT_DOUBLE_EQ(s.distance, 7.0);  // 3 along x, then 4 along y
+  EXPECT_DOUBLE_EQ(s.odometry_distance, 5.0);
+  EXPECT_EQ(s.pose_bounds.min, Vec2(0, 0));
+  EXPECT_EQ(s.pose_bounds.max, Vec2(3, 4));
+  EXPECT_EQ(s.stats.skipped_by_type.at("NEFF"), 1u);
+  EXPECT_EQ(s.stats.odometry, 2u);
+}
+
+TEST(IoLogSummary, FreiburgIsPlausible) {
+  const LogSummary s = summarizeCarmenLog(test::realLog("freiburg-079-corrected.log.gz"));
+  EXPECT_EQ(s.scans, 4791u);
+  EXPECT_EQ(s.beams_min, 360u);
+  EXPECT_EQ(s.beams_max, 360u);
+  EXPECT_NEAR(rad2deg(s.fov_max), 179.5, 1e-9);
+  EXPECT_DOUBLE_EQ(s.max_range_max, 80.99);
+  // A building floor: tens of metres across, a walk of some hundred metres over some minutes.
+  const Vec2 size = s.pose_bounds.max - s.pose_bounds.min;
+  EXPECT_GT(size.x(), 10.0);
+  EXPECT_LT(size.x(), 100.0);
+  EXPECT_GT(s.distance, 100.0);
+  EXPECT_LT(s.distance, 2000.0);
+  EXPECT_GT(s.duration(), 300.0);
+  EXPECT_LT(s.duration(), 7200.0);
+  EXPECT_EQ(s.stats.skipped_by_type.at("NEFF"), 4791u);
+  EXPECT_EQ(s.stats.no_return_ranges, 0u);
+}
+
+}  // namespace
+}  // namespace glassmap
