@@ -1,0 +1,195 @@
+// Localize units: the odometry motion model's statistics, resampling, KLD bound, the filter's
+// convergence and its determinism for a seed whatever the thread count.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <numeric>
+
+#include "glassmap/core/error.hpp"
+#include "glassmap/geometry/ray_caster.hpp"
+#include "glassmap/localize/localizer.hpp"
+#include "glassmap/localize/motion_model.hpp"
+#include "glassmap/localize/particle_filter.hpp"
+
+namespace glassmap::localize {
+namespace {
+
+TEST(MotionModel, NoiselessSampleComposesTheOdometryIncrement) {
+  const Pose2 from(1, 2, 0.3), to(2.5, 1.0, -2.0), x(-4, 7, 1.1);
+  for (const auto& [a, b] : {std::pair{from, to}, std::pair{to, from}, std::pair{from, from}}) {
+    const OdometryDelta d = odometryDelta(a, b);
+    std::mt19937_64 rng(1);
+    const Pose2 moved = sampleMotionOdometry(x, d, OdometryNoise{0, 0, 0, 0}, rng);
+    EXPECT_TRUE(approxEqual(moved, x * a.between(b), 1e-9, 1e-9));
+  }
+}
+
+TEST(MotionModel, BackwardMotionIsANegativeTranslation) {
+  const OdometryDelta d = odometryDelta(Pose2(0, 0, 0), Pose2(-1, 0, 0));
+  EXPECT_NEAR(d.trans, -1.0, 1e-12);
+  EXPECT_NEAR(d.rot1, 0.0, 1e-12);
+  EXPECT_NEAR(d.rot2, 0.0, 1e-12);
+}
+
+TEST(MotionModel, SampleStatisticsMatchTheAlphas) {
+  const OdometryNoise a{0.1, 0.02, 0.05, 0.01};
+  const Pose2 x(0, 0, 0);
+  const OdometryDelta d{0.2, 1.0, -0.1};
+  std::mt19937_64 rng(7);
+  const int n = 40000;
+  double mean_trans = 0, var_trans = 0, mean_rot = 0, var_rot = 0;
+  std::vector<double> trans(n), heading(n);
+  for (int i = 0; i < n; ++i) {
+    const Pose2 p = sampleMotionOdometry(x, d, a, rng);
+    trans[i] = p.t.norm();
+    heading[i] = p.theta;
+    mean_trans += trans[i] / n;
+    mean_rot += heading[i] / n;
+  }
+  for (int i = 0; i < n; ++i) {
+    var_trans += (trans[i] - mean_trans) * (trans[i] - mean_trans) / n;
+    var_rot += (heading[i] - mean_rot) * (heading[i] - mean_rot) / n;
+  }
+  // trans ~ N(1, a3 + a4 (rot1^2 + rot2^2)); heading = rot1 + rot2 with independent noises.
+  const double want_var_trans = a.alpha3 * 1.0 + a.alpha4 * (0.04 + 0.01);
+  const double want_var_rot = (a.alpha1 * 0.04 + a.alpha2) + (a.alpha1 * 0.01 + a.alpha2);
+  EXPECT_NEAR(mean_trans, 1.0, 0.01);
+  EXPECT_NEAR(mean_rot, 0.1, 0.01);
+  EXPECT_NEAR(var_trans / want_var_trans, 1.0, 0.05);
+  EXPECT_NEAR(var_rot / want_var_rot, 1.0, 0.05);
+}
+
+TEST(Resampling, LowVarianceGivesEachParticleFloorOrCeilOfItsShare) {
+  const std::vector<double> w{0.1, 0.2, 0.0, 0.65, 0.05};
+  for (double u : {0.0, 0.3e-3, 0.999e-3}) {
+    const auto idx = lowVarianceResample(w, 1000, u);
+    ASSERT_EQ(idx.size(), 1000u);
+    std::vector<int> count(w.size(), 0);
+    for (std::size_t i : idx) ++count[i];
+    for (std::size_t i = 0; i < w.size(); ++i) EXPECT_LE(std::abs(count[i] - 1000.0 * w[i]), 1.0) << i;
+    EXPECT_EQ(count[2], 0);
+    EXPECT_TRUE(std::is_sorted(idx.begin(), idx.end()));
+  }
+  EXPECT_EQ(lowVarianceResample({1.0}, 3, 0.1), (std::vector<std::size_t>{0, 0, 0}));
+}
+
+TEST(Resampling, KldBoundMatchesTheFormula) {
+  EXPECT_EQ(kldBound(1, 0.05, 2.33), 1u);
+  // k = 100: (100 / 0.1) (1 - 2/900 + sqrt(2/900) 2.33)^3 = 1358.9
+  EXPECT_EQ(kldBound(101, 0.05, 2.33), 1359u);
+  EXPECT_LT(kldBound(10, 0.05, 2.33), kldBound(100, 0.05, 2.33));
+  EXPECT_LT(kldBound(100, 0.1, 2.33), kldBound(100, 0.05, 2.33));
+}
+
+// A 10 x 6 m room with an L-shaped obstacle: no symmetry.
+VectorMap room() {
+  VectorMap m;
+  auto add = [&](Vec2 a, Vec2 b) {
+    MapSegment s;
+    s.a = a;
+    s.b = b;
+    m.segments.push_back(s);
+  };
+  add({0, 0}, {10, 0});
+  add({10, 0}, {10, 6});
+  add({10, 6}, {0, 6});
+  add({0, 6}, {0, 0});
+  add({6, 2}, {8, 2});
+  add({8, 2}, {8, 3.5});
+  return m;
+}
+
+LaserScan scanAt(const sensor::SensorModel& model, const Pose2& pose) {
+  LaserScan s;
+  s.start_angle = -deg2rad(135);
+  s.angular_step = deg2rad(1.0);
+  s.max_range = 30;
+  s.ranges.resize(271);
+  const RayCaster caster(model.map());
+  for (std::size_t i = 0; i < s.ranges.size(); ++i) {
+    const double r = caster.castRange(pose.t, Vec2(std::cos(pose.theta + s.beamAngle(i)),
+                                                   std::sin(pose.theta + s.beamAngle(i))), 30.0);
+    s.ranges[i] = std::isfinite(r) ? static_cast<float>(r) : 30.0f;
+  }
+  return s;
+}
+
+TEST(ParticleFilter, ConvergesFromAWideInitialCloud) {
+  const auto model = sensor::makeSensorModel("beam", room());
+  FilterOptions o;
+  o.max_particles = 3000;
+  ParticleFilter f(*model, o);
+  Pose2 truth(3.0, 2.5, 0.4);
+  f.initialize(Pose2(3.3, 2.2, 0.5), 0.4, 0.2);
+  f.correct(sensor::makeBeamSet(scanAt(*model, truth), 30));
+  for (int k = 0; k < 15; ++k) {  // drive 1.5 m: the motion noise lets the cloud refine
+    const Pose2 next = truth * Pose2(0.1, 0, -0.02);
+    f.predict(odometryDelta(truth, next));
+    truth = next;
+    f.correct(sensor::makeBeamSet(scanAt(*model, truth), 30));
+  }
+  const Pose2 e = f.estimate();
+  // The start was 0.42 m and 5.7 deg off; the cloud locks onto the best initial hypotheses (the
+  // odometry model hardly spreads particles sideways when driving straight).
+  EXPECT_LT((e.t - truth.t).norm(), 0.08);
+  EXPECT_LT(std::abs(angleDiff(e.theta, truth.theta)), deg2rad(2));
+  EXPECT_LT(f.spread(), 0.1);
+  // KLD sampling shrank the set once the cloud is tight.
+  EXPECT_LT(f.size(), 3000u);
+}
+
+TEST(ParticleFilter, GlobalInitialisationCoversTheFreeSpace) {
+  const auto model = sensor::makeSensorModel("beam", room());
+  FilterOptions o;
+  o.max_particles = 5000;
+  ParticleFilter f(*model, o);
+  f.initializeGlobal();
+  ASSERT_EQ(f.size(), 5000u);
+  int right = 0;
+  for (const Particle& p : f.particles()) {
+    EXPECT_TRUE(p.pose.x() > 0.19 && p.pose.x() < 9.81 && p.pose.y() > 0.19 && p.pose.y() < 5.81);
+    right += p.pose.x() > 5.0;
+  }
+  EXPECT_NEAR(right / 5000.0, 0.5, 0.05);
+}
+
+std::vector<Particle> runFilter(int threads) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  const auto model = sensor::makeSensorModel("glass", room());
+  FilterOptions o;
+  o.max_particles = 1500;
+  o.seed = 42;
+  ParticleFilter f(*model, o);
+  f.initialize(Pose2(3, 2.5, 0.4), 0.3, 0.1);
+  Pose2 truth(3, 2.5, 0.4);
+  for (int k = 0; k < 10; ++k) {
+    const Pose2 next = truth * Pose2(0.1, 0, 0.02);
+    f.predict(odometryDelta(truth, next));
+    truth = next;
+    f.correct(sensor::makeBeamSet(scanAt(*model, truth), 15));
+  }
+  return f.particles();
+}
+
+TEST(ParticleFilter, DeterministicForASeedWhateverTheThreadCount) {
+  const auto one = runFilter(1), two = runFilter(2), again = runFilter(2);
+  ASSERT_EQ(one.size(), two.size());
+  ASSERT_EQ(two.size(), again.size());
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(one[i].pose.t, two[i].pose.t);
+    EXPECT_EQ(one[i].log_w, two[i].log_w);
+    EXPECT_EQ(two[i].pose.theta, again[i].pose.theta);
+  }
+}
+
+TEST(Localizer, RefusesALogWithoutOdometry) {
+  const auto model = sensor::makeSensorModel("beam", room());
+  LaserLog log;
+  log.scans.push_back(scanAt(*model, Pose2(3, 2.5, 0)));
+  log.scans.back().has_odom = false;
+  EXPECT_THROW(localizeLog(log, *model, {}), Error);
+}
+
+}  // namespace
+}  // namespace glassmap::localize

@@ -1,0 +1,127 @@
+// glassmap localize --map FLOORPLAN LOG -o EST.tum: Monte Carlo localization against a segment map.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli_common.hpp"
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
+#include "glassmap/io/carmen.hpp"
+#include "glassmap/io/floorplan.hpp"
+#include "glassmap/io/tum.hpp"
+#include "glassmap/localize/localizer.hpp"
+
+namespace glassmap {
+namespace {
+
+struct LocalizeArgs {
+  std::string map, log, out, json;
+  std::string model = "glass";
+  std::string glass_as = "opaque";
+  int particles = 2000;
+  int min_particles = 100;
+  bool fixed = false;
+  int beams = 15;
+  std::string init;
+  std::string laser_offset;
+  std::uint64_t seed = 1;
+  double sigma_hit = 0.05;
+  bool no_inject = false;
+  bool quiet = false;
+};
+
+Pose2 parsePose(const std::string& text, const std::string& field) {
+  std::stringstream ss(text);
+  double v[3];
+  char c1 = 0, c2 = 0;
+  if (!(ss >> v[0] >> c1 >> v[1] >> c2 >> v[2]) || c1 != ',' || c2 != ',' || !ss.eof())
+    throw Error("expected x,y,theta (metres, metres, radians), got '" + text + "'", {}, 0, field);
+  return {v[0], v[1], v[2]};
+}
+
+void run(const LocalizeArgs& a) {
+  const VectorMap map = readFloorplan(a.map);
+  if (map.segments.empty()) throw Error("the map has no segments", a.map);
+  const LaserLog log = readCarmenLog(a.log);
+
+  sensor::SensorParams sp;
+  sp.glass_as = sensor::parseGlassAs(a.glass_as);
+  sp.sigma_hit = a.sigma_hit;
+  sp.max_range = log.scans.front().max_range;
+  const auto model = sensor::makeSensorModel(a.model, map, sp);
+
+  localize::LocalizeOptions opt;
+  opt.beams = a.beams;
+  opt.filter.max_particles = a.particles;
+  opt.filter.min_particles = a.min_particles;
+  opt.filter.adaptive = !a.fixed;
+  opt.filter.inject = !a.no_inject;
+  opt.filter.seed = a.seed;
+  if (!a.init.empty()) opt.init = parsePose(a.init, "init");
+  if (!a.laser_offset.empty()) opt.T_base_laser = parsePose(a.laser_offset, "laser-offset");
+  if (!a.quiet && cli::stderrIsTerminal())
+    std::cerr << "localizing " << log.scans.size() << " scans with the " << model->name() << " model...\n";
+  const localize::LocalizeResult r = localize::localizeLog(log, *model, opt);
+  writeTum(a.out, r.trajectory);
+
+  const nlohmann::json summary = {{"model", model->name()},
+                                  {"glass_as", a.glass_as},
+                                  {"scans", r.scans},
+                                  {"updates", r.updates},
+                                  {"resamplings", r.resamplings},
+                                  {"injected_particles", r.injected},
+                                  {"mean_particles", r.mean_particles},
+                                  {"beams", a.beams},
+                                  {"seconds", r.seconds},
+                                  {"ms_per_update", 1e3 * r.seconds_per_update},
+                                  {"log_seconds", r.log_duration},
+                                  {"real_time_factor", r.realTimeFactor()},
+                                  {"seed", a.seed}};
+  if (!a.json.empty())
+    writeAtomically(a.json, [&](const std::filesystem::path& tmp) { std::ofstream(tmp) << summary.dump(2) << "\n"; });
+  if (!a.quiet) {
+    std::printf("%-18s %12s\n", "model", model->name().c_str());
+    std::printf("%-18s %12zu\n", "scans", r.scans);
+    std::printf("%-18s %12zu\n", "updates", r.updates);
+    std::printf("%-18s %12.1f\n", "mean particles", r.mean_particles);
+    std::printf("%-18s %12.3f\n", "ms per update", 1e3 * r.seconds_per_update);
+    std::printf("%-18s %12.1f\n", "real-time factor", r.realTimeFactor());
+    std::printf("%-18s %12zu\n", "injected", r.injected);
+    std::printf("wrote %s\n", a.out.c_str());
+  }
+}
+
+const cli::Registrar reg(60, [](CLI::App& app) {
+  auto a = std::make_shared<LocalizeArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "localize",
+      "Monte Carlo localization of a laser log against a floorplan (any format the io module reads,\n"
+      "a DXF with a GLASS layer included). Uses the log's odometry and ranges only, never its laser\n"
+      "poses; writes one T_map_laser estimate per scan as TUM.");
+  sub->add_option("log", a->log, "CARMEN log (.clf, .log, .gz)")->required()->check(CLI::ExistingFile);
+  sub->add_option("--map", a->map, "floorplan: GeoJSON, GPKG, DXF, Shapefile, ...")->required()->check(CLI::ExistingFile);
+  sub->add_option("-o,--output", a->out, "estimated trajectory (TUM)")->required();
+  sub->add_option("--model", a->model, "sensor model")
+      ->check(CLI::IsMember({"glass", "glass-paper", "beam", "field"}))
+      ->capture_default_str();
+  sub->add_option("--glass-as", a->glass_as, "what glass is to the beam and field models")
+      ->check(CLI::IsMember({"opaque", "invisible"}))
+      ->capture_default_str();
+  sub->add_option("--particles", a->particles, "maximum (and initial) particle count")->capture_default_str();
+  sub->add_option("--min-particles", a->min_particles, "minimum particle count of KLD sampling")->capture_default_str();
+  sub->add_flag("--fixed-count", a->fixed, "keep --particles particles (no KLD sampling)");
+  sub->add_option("--beams", a->beams, "beams per scan, spread evenly (0: all)")->capture_default_str();
+  sub->add_option("--init", a->init, "initial laser pose x,y,theta [m,m,rad]; without it: global localization");
+  sub->add_option("--laser-offset", a->laser_offset, "laser pose on the robot x,y,theta [m,m,rad] (default 0,0,0)");
+  sub->add_option("--sigma-hit", a->sigma_hit, "range std dev of the sensor models [m]")->capture_default_str();
+  sub->add_flag("--no-inject", a->no_inject, "never inject random particles (no recovery)");
+  sub->add_option("--seed", a->seed, "random seed; the same seed gives the same estimate")->capture_default_str();
+  sub->add_option("--json", a->json, "also write the summary as JSON");
+  sub->add_flag("-q,--quiet", a->quiet, "print nothing on success");
+  sub->callback([a] { run(*a); });
+});
+
+}  // namespace
+}  // namespace glassmap
