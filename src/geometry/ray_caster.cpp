@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace glassmap {
 
@@ -9,24 +12,33 @@ namespace {
 
 constexpr std::int32_t kNone = std::numeric_limits<std::int32_t>::max();
 
+// Relative slack on the segment parameter: a ray counts as hitting a + v*d for v in
+// [-kSlack, 1 + kSlack], so rounding cannot let a ray slip between two segments that share an
+// endpoint (a wall corner). It lengthens each segment by 1e-12 of its length at either end.
+constexpr double kSlack = 1e-12;
+
 // Ray o + t*u against segment a + v*d, v in [0, 1]. Solving t*u - v*d = a - o = w with 2D cross
-// products: t = (w x d) / (u x d), v = (w x u) / (u x d). Returns t, or +infinity when the ray
-// misses: v outside [0, 1], t <= 0, or u x d == 0 (parallel and collinear rays never hit: t and
-// v are then infinite or NaN and fail the tests). v in [0, 1] is tested as v (1 - v) >= 0, exact
-// at both ends. No branches: hit or miss is unpredictable. Both the grid walk and the brute force
-// call this, so they agree bit for bit.
+// products: t = (w x d) / (u x d), v = (w x u) / (u x d). Sets t and q, and the ray hits when
+// t > 0 and q = v (1 - v) >= -kSlack (v within [0, 1] up to the slack). Parallel and collinear
+// rays (u x d == 0) never hit: t and v are then infinite or NaN and fail both tests.
+// Both the grid walk and the brute force call this: they agree bit for bit.
 template <class S>
-inline double hitParam(double ox, double oy, double ux, double uy, const S& s) {
+inline void hitParams(double ox, double oy, double ux, double uy, const S& s, double& t, double& q) {
   const double wx = s.ax - ox, wy = s.ay - oy;
-  const double den = ux * s.dy - uy * s.dx;
-  const double t = (wx * s.dy - wy * s.dx) / den;
-  const double v = (wx * uy - wy * ux) / den;
-  const bool ok = (v * (1.0 - v) >= 0.0) & (t > 0.0);
-  return ok ? t : std::numeric_limits<double>::infinity();
+  const double inv = 1.0 / (ux * s.dy - uy * s.dx);
+  t = (wx * s.dy - wy * s.dx) * inv;
+  const double v = (wx * uy - wy * ux) * inv;
+  q = v * (1.0 - v);
 }
 
-// Initial "best" range: hits are accepted while t < limit, i.e. t <= max_range. Capped below
-// +infinity so that a miss (+infinity) is never accepted.
+template <class S>
+inline bool hitTest(double ox, double oy, double ux, double uy, const S& s, double& t) {
+  double q;
+  hitParams(ox, oy, ux, uy, s, t, q);
+  return (q >= -kSlack) & (t > 0.0);
+}
+
+// Initial "best" range: hits are accepted while t < limit, i.e. t <= max_range.
 inline double acceptLimit(double max_range) {
   const double m = std::min(max_range, std::numeric_limits<double>::max());
   return std::nextafter(m, std::numeric_limits<double>::infinity());
@@ -108,19 +120,31 @@ RayCaster::RayCaster(const VectorMap& map, RayCasterOptions options) : map_(map)
       }
     }
   }
+  // CSR in pairs: each cell's list (ascending id) padded to an even length with a zero-length
+  // dummy that never hits, so the walk tests two segments per SSE2 instruction.
   cell_start_.resize(lists.size() + 1);
-  std::size_t total = 0;
+  std::size_t pairs = 0;
   for (std::size_t c = 0; c < lists.size(); ++c) {
-    cell_start_[c] = static_cast<std::uint32_t>(total);
-    total += lists[c].size();
+    cell_start_[c] = static_cast<std::uint32_t>(pairs);
+    pairs += (lists[c].size() + 1) / 2;
   }
-  cell_start_[lists.size()] = static_cast<std::uint32_t>(total);
-  cell_items_.reserve(total);
-  items_.reserve(total);
+  cell_start_[lists.size()] = static_cast<std::uint32_t>(pairs);
+  items_.resize(pairs);
+  cell_items_.resize(2 * pairs);
+  std::size_t k = 0;
   for (const auto& list : lists) {
-    for (std::uint32_t id : list) {
-      cell_items_.push_back(id);
-      items_.push_back(segs_[id]);
+    for (std::size_t j = 0; j < list.size(); j += 2, ++k) {
+      SegPair& pair = items_[k];
+      for (std::size_t lane = 0; lane < 2; ++lane) {
+        const bool real = j + lane < list.size();
+        const std::uint32_t id = real ? list[j + lane] : list[j];
+        const Seg& sg = segs_[id];
+        pair.ax[lane] = real ? sg.ax : 0.0;
+        pair.ay[lane] = real ? sg.ay : 0.0;
+        pair.dx[lane] = real ? sg.dx : 0.0;
+        pair.dy[lane] = real ? sg.dy : 0.0;
+        cell_items_[2 * k + lane] = id;
+      }
     }
   }
 }
@@ -182,21 +206,53 @@ RayCaster::Best RayCaster::walk(double ox, double oy, double ux, double uy, doub
   const std::ptrdiff_t stride_y = static_cast<std::ptrdiff_t>(step_y) * nx_;
   std::ptrdiff_t c = static_cast<std::ptrdiff_t>(iy) * nx_ + ix;
   const std::uint32_t* start = cell_start_.data();
-  const Seg* items = items_.data();
+  const SegPair* items = items_.data();
+#if defined(__SSE2__)
+  const __m128d vox = _mm_set1_pd(ox), voy = _mm_set1_pd(oy);
+  const __m128d vux = _mm_set1_pd(ux), vuy = _mm_set1_pd(uy);
+  const __m128d one = _mm_set1_pd(1.0), zero = _mm_setzero_pd(), slack = _mm_set1_pd(-kSlack);
+  const __m128d inf2 = _mm_set1_pd(std::numeric_limits<double>::infinity());
+#endif
   const std::uint32_t* ids = cell_items_.data();
   const auto skip_id = static_cast<std::uint32_t>(skip);  // -1 matches no real id
   for (;;) {
-    // Best hit within this cell's list. Lists are in ascending segment id, so the strict '<'
-    // keeps the lowest id among equal ranges, as the brute force does.
+    // Best hit within this cell's list. Lists are in ascending segment id (lane 0 before
+    // lane 1), so keeping the first of equal ranges keeps the lowest id, as the brute force does.
     double best_t = limit;
-    std::uint32_t best_k = 0;
+    std::uint32_t best_k = 0;  // lane index into ids
     const std::uint32_t end = start[c + 1];
     for (std::uint32_t k = start[c]; k < end; ++k) {
-      const double t = hitParam(ox, oy, ux, uy, items[k]);
-      bool better = t < best_t;
-      if constexpr (kSkip) better = better && ids[k] != skip_id;
-      best_t = better ? t : best_t;
-      best_k = better ? k : best_k;
+      const SegPair& p = items[k];
+#if defined(__SSE2__)
+      // hitParams() on both lanes; the same IEEE operations, so the same bits.
+      const __m128d wx = _mm_sub_pd(_mm_load_pd(p.ax), vox);
+      const __m128d wy = _mm_sub_pd(_mm_load_pd(p.ay), voy);
+      const __m128d dx = _mm_load_pd(p.dx), dy = _mm_load_pd(p.dy);
+      const __m128d inv = _mm_div_pd(one, _mm_sub_pd(_mm_mul_pd(vux, dy), _mm_mul_pd(vuy, dx)));
+      const __m128d t = _mm_mul_pd(_mm_sub_pd(_mm_mul_pd(wx, dy), _mm_mul_pd(wy, dx)), inv);
+      const __m128d v = _mm_mul_pd(_mm_sub_pd(_mm_mul_pd(wx, vuy), _mm_mul_pd(wy, vux)), inv);
+      const __m128d q = _mm_mul_pd(v, _mm_sub_pd(one, v));
+      __m128d m = _mm_and_pd(_mm_cmpge_pd(q, slack), _mm_cmpgt_pd(t, zero));
+      if constexpr (kSkip) {
+        m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x(ids[2 * k + 1] == skip_id ? 0 : -1,
+                                                          ids[2 * k] == skip_id ? 0 : -1)));
+      }
+      const __m128d tm = _mm_or_pd(_mm_and_pd(m, t), _mm_andnot_pd(m, inf2));
+      const double lo = _mm_cvtsd_f64(tm), hi = _mm_cvtsd_f64(_mm_unpackhi_pd(tm, tm));
+#else
+      double lo = std::numeric_limits<double>::infinity(), hi = lo;
+      for (int lane = 0; lane < 2; ++lane) {
+        const Seg sg{p.ax[lane], p.ay[lane], p.dx[lane], p.dy[lane]};
+        double t;
+        const bool ok = hitTest(ox, oy, ux, uy, sg, t) && (!kSkip || ids[2 * k + lane] != skip_id);
+        (lane == 0 ? lo : hi) = ok ? t : std::numeric_limits<double>::infinity();
+      }
+#endif
+      const std::uint32_t lane = hi < lo ? 1 : 0;
+      const double t_min = lane ? hi : lo;
+      const bool better = t_min < best_t;
+      best_t = better ? t_min : best_t;
+      best_k = better ? 2 * k + lane : best_k;
     }
     // A hit within this cell's part of the ray is the first one: every segment that could be
     // hit earlier lies in a cell already visited. A hit beyond it is forgotten: its point lies
@@ -234,8 +290,8 @@ RayCaster::Best RayCaster::brute(double ox, double oy, double ux, double uy, dou
   for (std::size_t i = 0; i < segs_.size(); ++i) {
     const auto sid = static_cast<std::int32_t>(i);
     if (sid == skip) continue;
-    const double t = hitParam(ox, oy, ux, uy, segs_[i]);
-    if (t < best.t) best = {t, sid};  // strict: the lowest id wins ties
+    double t;
+    if (hitTest(ox, oy, ux, uy, segs_[i], t) && t < best.t) best = {t, sid};  // lowest id wins ties
   }
   return best;
 }

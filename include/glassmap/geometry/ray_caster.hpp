@@ -2,7 +2,8 @@
 /// First-hit ray casting against a VectorMap through a uniform-grid spatial index (DDA walk).
 ///
 /// Hit rule (cast and castBruteForce agree bit for bit): the ray o + s*u hits segment a..b at
-/// s > 0, s <= max_range, endpoints included. A ray parallel to a segment (collinear included)
+/// s > 0, s <= max_range, endpoints included (with a slack of 1e-12 of the segment's length, so
+/// that rounding cannot open a gap at a corner where two segments meet). A ray parallel to a segment (collinear included)
 /// does not hit it: a zero-thickness line seen edge-on has no face; the segments joined to its
 /// ends are hit instead. A ray starting exactly on a segment does not hit that segment (s = 0 is
 /// excluded); pass `skip` to ignore the pane a continued ray starts on, which also guards against
@@ -67,7 +68,8 @@ class RayCaster {
   double cellSize() const { return cell_; }
   int cellsX() const { return nx_; }  ///< grid columns
   int cellsY() const { return ny_; }  ///< grid rows
-  /// Total entries in all cell lists (a segment counts once per cell it touches).
+  /// Total entries in all cell lists (a segment counts once per cell it touches; lists are
+  /// padded to even lengths).
   std::size_t cellEntries() const { return cell_items_.size(); }
 
  private:
@@ -89,10 +91,14 @@ class RayCaster {
   struct Seg {
     double ax, ay, dx, dy;
   };
-  std::vector<Seg> segs_;     // indexed by segment id (zero-length ones never enter cells)
-  std::vector<Seg> items_;    // CSR payload: a copy of each listed segment, cell by cell
-  std::vector<std::uint32_t> cell_items_;  // CSR payload: segment id of each entry
-  std::vector<std::uint32_t> cell_start_;  // CSR: cell -> [start, end) into the payloads
+  // Two segments side by side (structure of arrays), for two-wide SIMD tests.
+  struct alignas(16) SegPair {
+    double ax[2], ay[2], dx[2], dy[2];
+  };
+  std::vector<Seg> segs_;         // indexed by segment id (zero-length ones never enter cells)
+  std::vector<SegPair> items_;    // CSR payload: copies of each cell's segments, two by two
+  std::vector<std::uint32_t> cell_items_;  // CSR payload: segment id of each lane (2 per pair)
+  std::vector<std::uint32_t> cell_start_;  // CSR: cell -> [start, end) pairs in items_
   double cell_ = 1.0;
   double inv_cell_ = 1.0;
   Vec2 origin_ = Vec2::Zero();  // lower-left corner of the grid [m]
