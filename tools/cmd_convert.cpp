@@ -13,11 +13,12 @@ namespace {
 struct ConvertArgs {
   std::string in, out;
   bool quiet = false;
+  FloorplanReadOptions read;
 };
 
 void run(const ConvertArgs& args) {
   const FloorplanFormat format = floorplanFormatFromPath(args.out);  // fail before reading
-  const VectorMap map = readFloorplan(args.in);
+  const VectorMap map = readFloorplan(args.in, args.read);
   if (map.segments.empty()) throw Error("no line segments found in floorplan", args.in);
   writeFloorplan(args.out, map);
   if (args.quiet) return;
@@ -35,12 +36,17 @@ const cli::Registrar reg(20, [](CLI::App& app) {
       "Convert a floorplan of wall and glass line segments between vector formats. IN is any OGR "
       "line source (GeoJSON, GPKG, Shapefile, FlatGeobuf, DXF, ...): material from the 'material' "
       "field (wall/glass) or, for DXF, from the layer name (containing GLASS = glass); thickness "
-      "from the 'thickness' field [m], default 0.1. OUT's extension picks the format: .gpkg "
+      "from the 'thickness' field [m], default 0.1; coordinates scaled to metres from the file's units. OUT's extension picks the format: .gpkg "
       "(local metric CRS), .geojson/.json (local metres, no CRS), .shp (+ .shx .dbf .prj .cpg), "
       ".fgb, .dxf (layers WALL and GLASS, units metres). The output is written to a temporary "
       "name and renamed, so a failed run leaves no partial file.");
   sub->add_option("in", args->in, "input floorplan")->required()->check(CLI::ExistingFile);
   sub->add_option("out", args->out, "output floorplan; format from the extension")->required();
+  sub->add_option("--unit", args->read.unit_in_metres,
+                  "metres per input unit, overriding what the file declares (CRS units, DXF $INSUNITS; "
+                  "GDAL's default DXF header says inches); 0 = the file's own units, metres if none")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   sub->add_flag("-q,--quiet", args->quiet, "print nothing on success");
   sub->callback([args] { run(*args); });
 });

@@ -134,6 +134,38 @@ void writeDxfHeaderTemplate(const fs::path& path) {
   writeGroups(path, g);
 }
 
+double dxfUnitInMetres(const fs::path& dxf) {
+  std::ifstream in(dxf, std::ios::binary);
+  std::string code, value;
+  bool want = false;
+  while (std::getline(in, code) && std::getline(in, value)) {
+    code = trimCr(code);
+    value = trimCr(value);
+    const int c = std::atoi(code.c_str());
+    if (c == 0 && value == "ENDSEC") break;  // end of the HEADER section
+    if (c == 9) {
+      want = value == "$INSUNITS";
+      continue;
+    }
+    if (!want) continue;
+    switch (std::atoi(value.c_str())) {  // AutoCAD's $INSUNITS codes
+      case 1: return 0.0254;           // inches
+      case 2: return 0.3048;           // feet
+      case 3: return 1609.344;         // miles
+      case 4: return 0.001;            // millimetres
+      case 5: return 0.01;             // centimetres
+      case 6: return 1.0;              // metres
+      case 7: return 1000.0;           // kilometres
+      case 8: return 0.0254e-6;        // microinches
+      case 9: return 0.0254e-3;        // mils
+      case 10: return 0.9144;          // yards
+      case 14: return 0.1;             // decimetres
+      default: return 0.0;
+    }
+  }
+  return 0.0;
+}
+
 void addDxfXData(const fs::path& dxf, const VectorMap& map) {
   std::vector<Group> g = readGroups(dxf);
   std::vector<Group> out;

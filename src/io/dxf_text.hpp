@@ -12,6 +12,10 @@ namespace glassmap::io_detail {
 /// WALL (colour 7, white/black) and GLASS (colour 4, cyan) and the XDATA application GLASSMAP.
 void writeDxfHeaderTemplate(const std::filesystem::path& path);
 
+/// Metres per drawing unit declared by the DXF header's $INSUNITS (1 in, 2 ft, 4 mm, 5 cm, 6 m,
+/// ...); 0 when the header declares none or "unitless" (0).
+double dxfUnitInMetres(const std::filesystem::path& dxf);
+
 /// Appends XDATA (application GLASSMAP: material, thickness, pane_angle, support, evidence) to
 /// the i-th line entity of a DXF written by GDAL from map.segments[i].
 void addDxfXData(const std::filesystem::path& dxf, const VectorMap& map);

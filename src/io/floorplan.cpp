@@ -160,7 +160,7 @@ std::string_view gdalDriverName(FloorplanFormat format) {
   return "";
 }
 
-VectorMap readFloorplan(const fs::path& path) {
+VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& options) {
   io_detail::ensureGdalRegistered();
   GdalErrorCollector errors;
   const std::string file = path.string();
@@ -171,8 +171,12 @@ VectorMap readFloorplan(const fs::path& path) {
   VectorMap map;
   map.name = path.stem().string();
   std::size_t skipped = 0;
+  if (options.unit_in_metres < 0.0 || !std::isfinite(options.unit_in_metres))
+    throw Error("unit_in_metres must be positive (or 0 for the file's own units)", file);
+  const bool is_dxf = EQUAL(ds->GetDriverName(), "DXF");
+  const double dxf_unit = is_dxf ? io_detail::dxfUnitInMetres(path) : 0.0;
   for (OGRLayer* layer : ds->GetLayers()) {
-    double to_m = 1.0;
+    double to_m = dxf_unit > 0.0 ? dxf_unit : 1.0;
     // GDAL reports every GeoJSON layer as WGS 84 (the RFC 7946 default); a glassmap GeoJSON is
     // local metres by convention, so its CRS is ignored.
     const bool is_geojson = EQUAL(ds->GetDriverName(), "GeoJSON") || EQUAL(ds->GetDriverName(), "GeoJSONSeq");
@@ -185,6 +189,7 @@ VectorMap readFloorplan(const fs::path& path) {
       to_m = srs->GetLinearUnits(nullptr);
       if (!(to_m > 0.0)) to_m = 1.0;
     }
+    if (options.unit_in_metres > 0.0) to_m = options.unit_in_metres;
     OGRFeatureDefn* defn = layer->GetLayerDefn();
     const int material_idx = defn->GetFieldIndex("material");
     const int thickness_idx = defn->GetFieldIndex("thickness");

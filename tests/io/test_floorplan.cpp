@@ -204,6 +204,33 @@ TEST(Floorplan, ReadsForeignSourcesWithDefaults) {
   EXPECT_EQ(c.segments[1].material, Material::Glass);
   EXPECT_EQ(c.segments[2].material, Material::Glass);
   EXPECT_DOUBLE_EQ(c.segments[2].thickness, 0.1);
+  // GDAL's default DXF header declares inches ($INSUNITS 1): coordinates are scaled to metres,
+  // unless the caller says what a unit is.
+  EXPECT_NEAR(c.segments[0].b.x(), 0.0254, 1e-12);
+  FloorplanReadOptions as_metres;
+  as_metres.unit_in_metres = 1.0;
+  EXPECT_DOUBLE_EQ(readFloorplan(dxf, as_metres).segments[0].b.x(), 1.0);
+}
+
+TEST(Floorplan, DxfInMillimetresIsScaled) {
+  TempDir dir;
+  const auto path = dir / "plan.dxf";
+  writeFloorplan(path, sampleMap());
+  std::string text;
+  {
+    std::ifstream in(path, std::ios::binary);
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::string metres = "$INSUNITS\n 70\n     6\n";
+  const auto at = text.find(metres);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, metres.size(), "$INSUNITS\n 70\n     4\n");
+  const auto mm = dir / "mm.dxf";
+  std::ofstream(mm, std::ios::binary) << text;
+  const VectorMap m = readFloorplan(mm);
+  ASSERT_EQ(m.segments.size(), sampleMap().segments.size());
+  EXPECT_NEAR(m.segments[0].b.x(), 10.123456789e-3, 1e-12);
+  EXPECT_DOUBLE_EQ(m.segments[2].thickness, 0.008);  // XDATA thickness is in metres
 }
 
 TEST(Floorplan, BadInputsAreClearErrors) {

@@ -23,12 +23,20 @@ FloorplanFormat floorplanFormatFromPath(const std::filesystem::path& path);
 /// GDAL driver name of a format ("GPKG", "GeoJSON", "ESRI Shapefile", "FlatGeobuf", "DXF").
 std::string_view gdalDriverName(FloorplanFormat format);
 
+/// Options of readFloorplan.
+struct FloorplanReadOptions {
+  double unit_in_metres = 0.0;  ///< metres per file unit; 0: from the file (CRS linear units, DXF
+                                ///< $INSUNITS; metres when the file declares none)
+};
+
 /// Reads every line of any OGR vector source: LineString, MultiLineString and polygon rings;
 /// a polyline becomes its consecutive segments. Material from the `material` field, else from a
 /// `Layer` field (DXF) or the OGR layer name: containing "GLASS" (any case) means glass, else wall.
 /// Thickness from the `thickness` field (or DXF XDATA), default 0.1 m. Coordinates in a CRS with
-/// other linear units are scaled to metres; geographic (degree) coordinates are an Error.
-VectorMap readFloorplan(const std::filesystem::path& path);
+/// other linear units, or a DXF declaring other units ($INSUNITS: mm, cm, inches, ...), are scaled
+/// to metres (note: GDAL's own default DXF header declares inches); geographic (degree)
+/// coordinates are an Error.
+VectorMap readFloorplan(const std::filesystem::path& path, const FloorplanReadOptions& options = {});
 
 /// Writes one line feature per segment in the format of the extension, atomically: GPKG with a
 /// local engineering CRS in metres, GeoJSON (no CRS: local metres), ESRI Shapefile (.shp, .shx,
