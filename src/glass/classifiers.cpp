@@ -87,45 +87,52 @@ std::vector<double> directLobe(int bins, const DirectOptions& o) {
 
 SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams,
                              const grid::HitMissGrid& counts, const grid::OccupancyModel& occ,
-                             const AngleHistograms& hist, const DirectOptions& o,
-                             grid::IntegrationStats* stats) {
+                             AngleHistograms& hist, const DirectOptions& o,
+                             grid::IntegrationStats* stats, const grid::Progress& progress) {
   SigmoidSums sums;
   sums.log_occ.assign(hist.size(), 0.0f);
   sums.log_glass.assign(hist.size(), 0.0f);
   const grid::GridGeometry& g = counts.geometry();
   const double res = g.resolution;
-  // Occupied test on counts: hits * l_hit + misses * l_miss > l_occupied (clamping cannot change it
-  // while l_min < l_occupied < l_max).
-  auto occupied = [&](int x, int y) {
-    const grid::CellCounts c = counts.get(x, y);
-    return c.hits != 0 && c.hits * occ.l_hit + c.misses * occ.l_miss > occ.l_occupied;
-  };
+  const int bins = hist.bins();
+  // Occupied cells of the standard map (l > l_occupied) all have hits, so all are candidates:
+  // one flag per candidate answers "occupied?" in the hot loop.
+  std::vector<std::uint8_t> occupied(hist.size());
+  for (std::size_t i = 0; i < hist.size(); ++i) {
+    const auto c = g.cellOf(hist.cell(static_cast<std::int32_t>(i)));
+    occupied[i] = occ.occupied(counts.get(c.x, c.y)) ? 1 : 0;
+  }
+  const double search = o.search_cells * res;
   grid::IntegrationStats st;
-  for (const LaserScan& scan : log.scans) {
-    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
+  for (std::size_t s = 0; s < log.scans.size(); ++s) {
+    if (progress && s % 256 == 0) progress(static_cast<double>(s) / log.scans.size());
+    grid::forEachBeam(log.scans[s], beams, [&](const grid::Beam& beam) {
       ++st.beams;
-      if (!beam.hit) return;
-      ++st.hit_beams;
-      const grid::CellIndex end = g.cellAt(beam.to);
-      if (!g.contains(end)) return;
-      const std::int32_t id = hist.find(end.x, end.y);
-      if (id == AngleHistograms::kNone) return;
-      // d_real: distance to the first occupied cell along the beam, the beam continued past its
-      // reading through the occupancy map (where glass is mostly invisible).
+      const int bin = grid::angleBin(beam.angle, bins);
+      const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
+      // One walk: per-angle hits/misses of candidates and d_real, the distance to the first
+      // occupied cell of the standard map along the beam (where glass is mostly invisible).
       double d_real = std::numeric_limits<double>::infinity();
-      st.cells_traversed += grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool) {
-        if (!occupied(x, y)) return true;
-        d_real = t * beam.range;
-        return false;
+      std::int32_t end_id = AngleHistograms::kNone;
+      st.cells_traversed += grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
+        const std::int32_t id = hist.find(x, y);
+        if (id == AngleHistograms::kNone) return;
+        if (end_inside && last) {
+          hist.addHit(id, bin);
+          end_id = id;
+        } else {
+          hist.addMiss(id, bin);
+        }
+        if (occupied[static_cast<std::size_t>(id)] && !std::isfinite(d_real)) d_real = t * beam.range;
       });
-      const double search = o.search_cells * res;
-      if (!std::isfinite(d_real)) {
-        const Vec2 dir = (beam.to - beam.from) / beam.range;
-        const Vec2 far = beam.to + search * dir;
-        bool first = true;
+      if (end_id == AngleHistograms::kNone) return;
+      ++st.hit_beams;
+      if (!std::isfinite(d_real)) {  // continue the beam past its reading
+        const Vec2 far = beam.to + (search / beam.range) * (beam.to - beam.from);
         st.cells_traversed += grid::traverse(g, beam.to, far, [&](int x, int y, double t, bool) {
-          if (first) { first = false; return true; }  // the reading's own cell was checked above
-          if (!occupied(x, y)) return true;
+          if (t == 0.0) return true;  // the reading's own cell, checked above
+          const std::int32_t id = hist.find(x, y);
+          if (id == AngleHistograms::kNone || !occupied[static_cast<std::size_t>(id)]) return true;
           d_real = beam.range + t * search;
           return false;
         });
@@ -135,11 +142,13 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
       const double x = (d_real - beam.range) / res - o.sigmoid_margin;
       const double log_p_occ = -softplus(x);       // log P_occ^t
       const double log_1m_p_occ = -softplus(-x);   // log (1 - P_occ^t)
-      sums.log_occ[id] += static_cast<float>(std::log(o.p_hit_occ * std::exp(log_p_occ) + o.occ_hit_floor));
-      sums.log_glass[id] += static_cast<float>(log_1m_p_occ);
+      sums.log_occ[static_cast<std::size_t>(end_id)] +=
+          static_cast<float>(std::log(o.p_hit_occ * std::exp(log_p_occ) + o.occ_hit_floor));
+      sums.log_glass[static_cast<std::size_t>(end_id)] += static_cast<float>(log_1m_p_occ);
     });
     ++st.scans;
   }
+  if (progress) progress(1.0);
   if (stats) *stats = st;
   return sums;
 }

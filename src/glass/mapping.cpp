@@ -49,10 +49,11 @@ MappingResult mapLog(const LaserLog& log, const MappingOptions& o,
 
   t0 = std::chrono::steady_clock::now();
   grid::AngleHistograms hist(counts, bins);
-  grid::integrateAngles(log, o.beams, hist, report("angles"));
   SigmoidSums sums;
   if (o.method == Method::Direct) {
-    sums = integrateSigmoid(log, o.beams, counts, o.occupancy, hist, o.direct);
+    sums = integrateSigmoid(log, o.beams, counts, o.occupancy, hist, o.direct, nullptr, report("angles"));
+  } else {
+    grid::integrateAngles(log, o.beams, hist, report("angles"));
   }
   st.seconds_angles = secondsSince(t0);
 

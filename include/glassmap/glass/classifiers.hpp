@@ -49,12 +49,14 @@ struct SigmoidSums {
   std::vector<float> log_glass;  ///< [candidate]
 };
 
-/// The pass that needs the occupancy map: for every beam ending in a candidate cell, d_real by
-/// casting the beam through the occupancy grid past its reading (first cell with l > l_occupied).
+/// The second pass of the direct method, one walk per beam: fills the per-angle histograms of the
+/// candidates (as grid::integrateAngles) and, for every beam ending in a candidate, finds d_real by
+/// continuing the beam through the occupancy map past its reading (first cell with
+/// l > l_occupied, at most search_cells past the reading).
 SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams,
                              const grid::HitMissGrid& counts, const grid::OccupancyModel& occupancy,
-                             const grid::AngleHistograms& histograms, const DirectOptions& options,
-                             grid::IntegrationStats* stats = nullptr);
+                             grid::AngleHistograms& histograms, const DirectOptions& options,
+                             grid::IntegrationStats* stats = nullptr, const grid::Progress& progress = {});
 
 /// Labels every observed cell; candidates by the heuristic, with costs.
 CellEvidence classifyHeuristic(const grid::HitMissGrid& counts, const grid::AngleHistograms& histograms,

@@ -1,0 +1,179 @@
+// glassmap map LOG -o DIR: grid glass mapping (paper 2.5.3 / 2.5.4) of a laser log.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.hpp"
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
+#include "glassmap/glass/mapping.hpp"
+#include "glassmap/glass/render.hpp"
+#include "glassmap/io/carmen.hpp"
+#include "glassmap/io/labels_raster.hpp"
+#include "glassmap/io/ros_map.hpp"
+
+namespace glassmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct MapArgs {
+  std::string log;
+  std::string out;
+  std::string method = "direct";
+  int laser_id = 0;
+  bool quiet = false;
+  glass::MappingOptions options;
+};
+
+/// ROS map: unknown -1, empty 0, occupied and glass 100 (a navigation stack then avoids glass).
+OccupancyGridMap toRosMap(const glass::CellEvidence& e) {
+  OccupancyGridMap m;
+  m.width = e.geometry.width;
+  m.height = e.geometry.height;
+  m.resolution = e.geometry.resolution;
+  m.origin = Pose2(e.geometry.origin, 0.0);
+  m.data.resize(e.label.size());
+  for (std::size_t i = 0; i < e.label.size(); ++i) {
+    const int l = e.label[i];
+    m.data[i] = l == glass::kUnknown ? std::int8_t{-1} : l == glass::kEmpty ? std::int8_t{0} : std::int8_t{100};
+  }
+  return m;
+}
+
+LabelRaster toLabelRaster(const glass::CellEvidence& e) {
+  LabelRaster r;
+  r.width = e.geometry.width;
+  r.height = e.geometry.height;
+  r.resolution = e.geometry.resolution;
+  r.origin = e.geometry.origin;
+  r.codes.resize(e.label.size());
+  for (std::size_t i = 0; i < e.label.size(); ++i) r.codes[i] = glass::labelToCode(e.label[i]);
+  return r;
+}
+
+nlohmann::json optionsJson(const MapArgs& a) {
+  const auto& o = a.options;
+  const auto& d = o.direct;
+  const auto& h = o.heuristic;
+  return {{"method", a.method},
+          {"resolution", o.resolution},
+          {"angle_bin_deg", o.angle_bin_deg},
+          {"range_cap", o.beams.range_cap},
+          {"min_range", o.beams.min_range},
+          {"clear_no_return", o.beams.clear_no_return},
+          {"direct",
+           {{"sigmoid_margin", d.sigmoid_margin}, {"direct_sigma_deg", d.direct_sigma_deg},
+            {"direct_peak", d.direct_peak}, {"lobe_floor", d.lobe_floor}, {"p_hit_occ", d.p_hit_occ},
+            {"p_hit_emp", d.p_hit_emp}, {"occ_hit_floor", d.occ_hit_floor}, {"prior_glass", d.prior_glass},
+            {"prior_occupied", d.prior_occupied}, {"min_glass_hits", d.min_glass_hits},
+            {"search_cells", d.search_cells}}},
+          {"heuristic",
+           {{"min_hits", h.min_hits}, {"min_window_hit_ratio", h.min_window_hit_ratio},
+            {"min_other_misses", h.min_other_misses}, {"max_other_hit_ratio", h.max_other_hit_ratio},
+            {"occupied_hit_ratio", h.occupied_hit_ratio}}}};
+}
+
+void run(MapArgs& args) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool show_progress = !args.quiet && cli::stderrIsTerminal();
+  CarmenReadOptions read;
+  read.laser_id = args.laser_id;
+  if (show_progress) std::cerr << "reading " << args.log << "...\n";
+  const LaserLog log = readCarmenLog(args.log, read);
+  const double seconds_read = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // Methods: heuristic and direct are cell classifiers of glass/. The MRF integration adds
+  // "mrf" here: run Direct, then refine result.evidence (labels from the MRF solution).
+  args.options.method = glass::parseMethod(args.method);
+  auto progress = [&](const char* stage, double f) {
+    if (!show_progress) return;
+    std::fprintf(stderr, "\r%-8s %5.1f%%", stage, 100.0 * f);
+    if (f >= 1.0) std::fputc('\n', stderr);
+  };
+  glass::MappingResult result = glass::mapLog(log, args.options, progress);
+  const glass::CellEvidence& e = result.evidence;
+
+  const fs::path dir(args.out);
+  fs::create_directories(dir);
+  writeRosMap(dir / "map.yaml", toRosMap(e));
+  writeLabelRaster(dir / "labels.tif", toLabelRaster(e));
+  glass::writeLabelsPng(dir / "map.png", e.geometry.width, e.geometry.height, e.label, e.bins);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::size_t peak = cli::peakMemoryBytes();
+
+  const auto& st = result.stats;
+  nlohmann::json j = {{"log", args.log},
+                      {"scans", st.scans},
+                      {"beams", st.beams},
+                      {"hit_beams", st.hit_beams},
+                      {"cells_traversed", st.cells_traversed},
+                      {"grid", {{"width", e.geometry.width}, {"height", e.geometry.height},
+                                {"resolution", e.geometry.resolution},
+                                {"origin", {e.geometry.origin.x(), e.geometry.origin.y()}}}},
+                      {"observed_cells", st.observed_cells},
+                      {"candidate_cells", st.candidate_cells},
+                      {"glass_cells", st.glass_cells},
+                      {"occupied_cells", st.occupied_cells},
+                      {"state_bytes", st.state_bytes},
+                      {"bytes_per_observed_cell", st.bytes_per_observed_cell},
+                      {"seconds", {{"read", seconds_read}, {"counts", st.seconds_counts},
+                                   {"angles", st.seconds_angles}, {"classify", st.seconds_classify},
+                                   {"total", seconds}}},
+                      {"peak_memory_bytes", peak},
+                      {"options", optionsJson(args)}};
+  writeAtomically(dir / "stats.json", [&](const fs::path& tmp) {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    if (!out) throw Error("cannot write", (dir / "stats.json").string());
+  });
+
+  if (!args.quiet) {
+    std::printf("%-22s %s\n", "method", args.method.c_str());
+    std::printf("%-22s %zu\n", "scans", st.scans);
+    std::printf("%-22s %zu\n", "beams", st.beams);
+    std::printf("%-22s %d x %d (%.3f m)\n", "grid", e.geometry.width, e.geometry.height, e.geometry.resolution);
+    std::printf("%-22s %zu\n", "cells observed", st.observed_cells);
+    std::printf("%-22s %zu\n", "cells occupied", st.occupied_cells);
+    std::printf("%-22s %zu\n", "glass cells", st.glass_cells);
+    std::printf("%-22s %.1f\n", "state bytes/cell", st.bytes_per_observed_cell);
+    std::printf("%-22s %.2f (read %.2f, counts %.2f, angles %.2f, classify %.2f)\n", "seconds", seconds,
+                seconds_read, st.seconds_counts, st.seconds_angles, st.seconds_classify);
+    std::printf("%-22s %.1f MB\n", "peak memory", static_cast<double>(peak) / 1e6);
+    std::printf("%-22s %s/{map.yaml,map.pgm,labels.tif,map.png,stats.json}\n", "wrote", dir.string().c_str());
+  }
+}
+
+const cli::Registrar reg(40, [](CLI::App& app) {
+  auto args = std::make_shared<MapArgs>();
+  auto& o = args->options;
+  CLI::App* cmd = app.add_subcommand("map", "Map a laser log into an occupancy grid with glass cells (paper 2.5.3-2.5.4).");
+  cmd->add_option("log", args->log, "CARMEN log (.clf/.log, optionally .gz) with SLAM-corrected laser poses")
+      ->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", args->out, "output directory")->required();
+  cmd->add_option("--method", args->method, "cell classifier: heuristic | direct")
+      ->check(CLI::IsMember({"heuristic", "direct"}))->capture_default_str();
+  cmd->add_option("--resolution", o.resolution, "cell size [m]")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--angle-bin", o.angle_bin_deg, "incidence-angle bin width [deg], divides 180")->capture_default_str();
+  cmd->add_option("--range-cap", o.beams.range_cap, "use beams up to this range; max-range readings clear to it [m]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--laser-id", args->laser_id, "keep only scans of this CARMEN laser (0: all)")->capture_default_str();
+  cmd->add_option("--sigmoid-margin", o.direct.sigmoid_margin, "direct: sigmoid margin delta [cells]")->capture_default_str();
+  cmd->add_option("--direct-sigma", o.direct.direct_sigma_deg, "direct: direct-reflection lobe sigma [deg]")->capture_default_str();
+  cmd->add_option("--direct-peak", o.direct.direct_peak, "direct: P(return) at normal incidence")->capture_default_str();
+  cmd->add_option("--prior-glass", o.direct.prior_glass, "direct: prior of glass for a hit cell")->capture_default_str();
+  cmd->add_option("--prior-occupied", o.direct.prior_occupied, "direct: prior of OCC for a hit cell")->capture_default_str();
+  cmd->add_option("--p-hit-empty", o.direct.p_hit_emp, "direct: P(beam ends in an empty cell)")->capture_default_str();
+  cmd->add_option("--p-hit-occupied", o.direct.p_hit_occ, "direct: P(beam ends in an occupied cell it reaches)")->capture_default_str();
+  cmd->add_option("--min-glass-hits", o.direct.min_glass_hits, "direct: hits a cell needs to be glass")->capture_default_str();
+  cmd->add_option("--heuristic-min-hits", o.heuristic.min_hits, "heuristic: hits in the angle window")->capture_default_str();
+  cmd->add_option("--heuristic-min-misses", o.heuristic.min_other_misses, "heuristic: misses outside the window")->capture_default_str();
+  cmd->add_flag("-q,--quiet", args->quiet, "no progress, no summary");
+  cmd->callback([args] { run(*args); });
+});
+
+}  // namespace
+}  // namespace glassmap
