@@ -364,3 +364,57 @@ TEST(Carmen, WriterRejectsBadParams) {
 
 }  // namespace
 }  // namespace glassmap
+
+namespace glassmap {
+namespace {
+
+// Every prefix and many random corruptions of a valid log give either a log or a glassmap::Error
+// (never another exception, a crash or a hang).
+TEST(Carmen, CorruptedInputsGiveErrorsNotCrashes) {
+  test::TempDir dir;
+  const std::string good =
+      "PARAM robot_front_laser_max 30 nohost 0\n"
+      "ODOM 1 2 0.1 0.3 0.05 0 5.0 host 5.0\n"
+      "FLASER 4 1.0 2.0 nan 3.5 1 2 0.5 3 4 -0.5 10 host 10\n"
+      "ROBOTLASER1 0 -1.5 3.0 0.5 20 0.01 0 3 1 2 3 2 7 8 1 2 0.5 1.1 2.1 0.6 0 0 0 0 0 11 host 11\n"
+      "RAWLASER2 0 -1.0 2.0 0 30 0.01 0 2 1 2 0 12 host 12\n"
+      "TRUEPOS 7 8 0.2 1 2 0.1 13 host 13\n";
+  std::size_t errors = 0, logs = 0;
+  auto attempt = [&](const std::string& text) {
+    const auto p = dir.write("c.clf", text);
+    try {
+      CarmenReadOptions opt;
+      opt.require_scans = false;
+      readCarmenLog(p, opt);
+      ++logs;
+    } catch (const Error& e) {
+      ++errors;
+      EXPECT_FALSE(std::string(e.what()).empty());
+    }
+  };
+  for (std::size_t n = 0; n <= good.size(); ++n) attempt(good.substr(0, n));
+  std::uint32_t state = 12345;
+  auto rnd = [&] {
+    state = state * 1664525u + 1013904223u;
+    return state >> 8;
+  };
+  const std::string junk = " \t\n-+.eE0x9#Nni/\r";
+  for (int trial = 0; trial < 1000; ++trial) {
+    std::string text = good;
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t at = rnd() % text.size();
+      switch (rnd() % 3) {
+        case 0: text[at] = junk[rnd() % junk.size()]; break;
+        case 1: text.erase(at, 1 + rnd() % 8); break;
+        default: text.insert(at, 1, junk[rnd() % junk.size()]); break;
+      }
+      if (text.empty()) text = "#";
+    }
+    attempt(text);
+  }
+  EXPECT_GT(errors, 100u);
+  EXPECT_GT(logs, 10u);
+}
+
+}  // namespace
+}  // namespace glassmap
