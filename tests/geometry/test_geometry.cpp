@@ -235,6 +235,34 @@ TEST(RayCaster, TiesGoToTheLowerSegmentId) {
   EXPECT_EQ(caster.cast(Vec2(0, 0), 0.0, 10.0, 0).segment, 1);
 }
 
+// A closed polygon: no ray from inside may escape, not even one aimed exactly at a corner where
+// two segments meet (the endpoint slack keeps corners watertight against rounding).
+TEST(RayCaster, ClosedPolygonIsWatertight) {
+  VectorMap map;
+  const int n = 37;
+  std::vector<Vec2> corners;
+  for (int k = 0; k < n; ++k) {
+    corners.emplace_back(0.3 + 5 * std::cos(2 * kPi * k / n), 0.1 + 5 * std::sin(2 * kPi * k / n));
+  }
+  for (int k = 0; k < n; ++k) {
+    const Vec2& a = corners[k];
+    const Vec2& b = corners[(k + 1) % n];
+    map.segments.push_back(seg(a.x(), a.y(), b.x(), b.y()));
+  }
+  const RayCaster caster(map, {0.7});
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int i = 0; i < 20000; ++i) {
+    const Vec2 o(0.3 + u(rng), 0.1 + u(rng));
+    const Vec2 d = (corners[static_cast<std::size_t>(i) % n] - o).normalized();
+    const RayHit h = caster.cast(o, d, 100.0);
+    ASSERT_TRUE(h.hit()) << describe(o, d, 100.0, -1);
+    EXPECT_LT(h.range, 5.0 + 3 * std::sqrt(2.0));
+    const int k = i % n;  // the corner joins segments k - 1 and k; either may report it
+    EXPECT_TRUE(h.segment == k || h.segment == (k + n - 1) % n) << h.segment << " " << k;
+  }
+}
+
 TEST(RayCaster, ScanMatchesSingleCasts) {
   std::mt19937 rng(3);
   const VectorMap map = randomMap(rng, 200);
