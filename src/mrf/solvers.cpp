@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <bit>
 #include <chrono>
 #include <ctime>
 #include <cstdlib>
@@ -130,16 +132,42 @@ class ExpansionSolver final : public MrfSolver {
       for (int l = 0; l < L; ++l)
         if (e.isCandidate(c, l)) where[l].push_back(c);
     detail::BinaryMoveSolver move(e);
+    // An alpha move depends on the labels in alpha's candidate region and next to it. When a cell
+    // changes, every label that is a candidate at it or at a neighbour gets stamped; an alpha
+    // whose last exact move found nothing and that is unstamped since would find nothing again.
+    int64_t now = 1;
+    std::vector<int64_t> stamp(L, 1), last_run(L, 0);
+    const int w = e.width, h = e.height;
+    const uint64_t all = L >= 64 ? ~uint64_t{0} : (uint64_t{1} << L) - 1;
     runCycles(o_, r, [&] {
       for (int a = 0; a < L; ++a) {
+        if (stamp[a] < last_run[a]) continue;
         move.clear();
         for (uint32_t c : where[a])
           if (labels[c] != a) move.add(c, labels[c], static_cast<uint16_t>(a));
         const detail::MoveOutcome m = move.run(labels);
         r.truncated_terms += m.truncated;
-        if (!m.changed) continue;
-        r.energy += m.delta;
-        ++r.moves;
+        ++now;
+        if (m.changed) {
+          r.energy += m.delta;
+          ++r.moves;
+          if (L > 64) {
+            std::fill(stamp.begin(), stamp.end(), now);
+          } else {
+            for (uint32_t c : move.changedCells()) {
+              const int x = static_cast<int>(c % w), y = static_cast<int>(c / w);
+              uint64_t affected = e.candidates.empty() ? all : e.candidates[c];
+              for (int d = 0; d < 8 && affected != all; ++d) {
+                const int nx = x + detail::kDx[d], ny = y + detail::kDy[d];
+                if (nx >= 0 && ny >= 0 && nx < w && ny < h)
+                  affected |= e.candidates[static_cast<std::size_t>(ny) * w + nx];
+              }
+              for (uint64_t bits = affected; bits != 0; bits &= bits - 1) stamp[std::countr_zero(bits)] = now;
+            }
+          }
+        }
+        // An optimal expansion repeated at once finds nothing; a truncated one might.
+        last_run[a] = m.truncated == 0 ? ++now : now;
       }
     });
     r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
