@@ -62,8 +62,10 @@ std::vector<int32_t> makePsi(int num_glass_bins, const PsiWeights& w);
 /// between glass and empty, 0 otherwise (OCC is free next to anything).
 std::vector<int32_t> paperPsi(int num_glass_bins, double w_diff = 3.0, double w_glass_empty = 0.6);
 
-/// Psi variants by name: "paper" (as above) or "closed" (glass next to OCC costs as much as glass
-/// next to EMP, removing OCC as a free buffer). Throws glassmap::Error for other names.
+/// Psi variants by name: "paper" (as above); "closed" (glass next to OCC costs as much as glass
+/// next to EMP, 0.6, so OCC is no longer a free buffer for doubtful glass; best glass F1 on the
+/// synthetic floor, see `glassmap bench mrf`); "neutral" (EMP next to OCC also costs 0.6, so
+/// walls and glass pay the same boundary cost). Throws glassmap::Error for other names.
 std::vector<int32_t> psiByName(const std::string& name, int num_glass_bins);
 
 /// Checks sizes and symmetry; throws glassmap::Error naming the field otherwise.
