@@ -96,6 +96,7 @@ class RayCaster {
     double ax[2], ay[2], dx[2], dy[2];
   };
   std::vector<Seg> segs_;         // indexed by segment id (zero-length ones never enter cells)
+  std::vector<Material> materials_;  // indexed by segment id
   std::vector<SegPair> items_;    // CSR payload: copies of each cell's segments, two by two
   std::vector<std::uint32_t> cell_items_;  // CSR payload: segment id of each lane (2 per pair)
   std::vector<std::uint32_t> cell_start_;  // CSR: cell -> [start, end) pairs in items_
