@@ -120,7 +120,7 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
         if (end_inside && last) {
           hist.addHit(id, bin);
           end_id = id;
-        } else {
+        } else if (grid::countsMiss(beam, t * beam.range, beams.miss_margin)) {
           hist.addMiss(id, bin);
         }
         if (occupied[static_cast<std::size_t>(id)] && !std::isfinite(d_real)) d_real = t * beam.range;
@@ -200,8 +200,11 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
   const std::vector<double> lobe = directLobe(bins, o);
   std::vector<double> log_hit(lobe.size()), log_miss(lobe.size());
   for (std::size_t d = 0; d < lobe.size(); ++d) {
-    log_hit[d] = std::log(lobe[d]);
-    log_miss[d] = std::log1p(-lobe[d]);
+    // A glass cell returns a beam by direct reflection, or by the same spurious causes as an
+    // empty cell (so glass never explains misses better than EMP does off the lobe).
+    const double q = lobe[d] + (1.0 - lobe[d]) * o.p_hit_emp;
+    log_hit[d] = std::log(q);
+    log_miss[d] = std::log1p(-q);
   }
   const double lp_glass = std::log(o.prior_glass / bins), lp_occ = std::log(o.prior_occupied);
   const double lp_emp = std::log(1.0 - o.prior_glass - o.prior_occupied);

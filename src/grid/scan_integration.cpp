@@ -29,10 +29,10 @@ IntegrationStats integrateCounts(const LaserLog& log, const BeamOptions& options
   for (std::size_t s = 0; s < log.scans.size(); ++s) {
     forEachBeam(log.scans[s], options, [&](const Beam& beam) {
       const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
-      stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
+      stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
         if (end_inside && last) {
           grid.addHit(x, y);
-        } else {
+        } else if (countsMiss(beam, t * beam.range, options.miss_margin)) {
           grid.addMiss(x, y);
         }
       });
@@ -55,12 +55,12 @@ IntegrationStats integrateAngles(const LaserLog& log, const BeamOptions& options
     forEachBeam(log.scans[s], options, [&](const Beam& beam) {
       const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
       const int bin = angleBin(beam.angle, bins);
-      stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
+      stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
         const std::int32_t id = histograms.find(x, y);
         if (id == AngleHistograms::kNone) return;
         if (end_inside && last) {
           histograms.addHit(id, bin);
-        } else {
+        } else if (countsMiss(beam, t * beam.range, options.miss_margin)) {
           histograms.addMiss(id, bin);
         }
       });

@@ -25,8 +25,8 @@ struct HeuristicOptions {
 /// Direct-reflection formulation (paper 2.5.4) as a Bayes classifier over the cell's beams:
 /// per beam t ending in the cell, P_occ^t = 1 / (1 + exp((d_real - d_range) / res - delta))
 /// (the paper's sigmoid, its margin read as cells); GLS_k explains a hit by a direct reflection
-/// (lobe exp(-theta^2 / 2 sigma^2), theta the incidence on a pane of normal k) times
-/// (1 - P_occ^t), a miss by 1 - lobe; OCC a hit by p_hit_occ * P_occ^t, a miss by 1 - p_hit_occ;
+/// (lobe exp(-theta^2 / 2 sigma^2), theta the incidence on a pane of normal k) or a spurious
+/// return as in EMP, times (1 - P_occ^t), a miss by the complement; OCC a hit by p_hit_occ * P_occ^t, a miss by 1 - p_hit_occ;
 /// EMP a hit by p_hit_emp (spurious returns). Sums of logs, normalised over all labels.
 struct DirectOptions {
   double sigmoid_margin = 5.0;     ///< delta of the sigmoid [cells] (paper: 5)

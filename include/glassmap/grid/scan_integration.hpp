@@ -17,7 +17,11 @@ struct BeamOptions {
                                 ///< max-range readings clear free space up to here, with no hit
   double min_range = 0.05;      ///< readings below this are dropped (sensor dead zone) [m]
   bool clear_no_return = true;  ///< no-return and max-range readings clear free space (to the cap)
+  double miss_margin = 0.1;     ///< a returned beam adds no miss to cells it enters within this
+                                ///< distance before its reading [m]: grazing beams along a thin wall
+                                ///< would otherwise clear the wall's own cells
 };
+
 
 /// One beam as a segment in the map frame.
 struct Beam {
@@ -27,6 +31,11 @@ struct Beam {
   double range = 0.0;  ///< length of the segment [m]
   bool hit = false;    ///< true: the beam returned at `to` (the last cell is a hit)
 };
+
+/// True if a cell entered at distance `enter` [m] along a beam counts a miss (see miss_margin).
+inline bool countsMiss(const Beam& beam, double enter, double miss_margin) {
+  return !beam.hit || enter < beam.range - miss_margin;
+}
 
 /// Calls fn(const Beam&) for every usable beam of scan (see BeamOptions).
 template <class Fn>
