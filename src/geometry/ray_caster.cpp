@@ -159,6 +159,7 @@ RayCaster::Best RayCaster::walk(double ox, double oy, double ux, double uy, doub
                                 std::int32_t skip) const {
   const double limit = acceptLimit(max_range);
   if (nx_ == 0 || !(max_range > 0)) return {limit, kNone};
+  if (!std::isfinite(ox + oy + ux + uy)) return {limit, kNone};  // NaN/inf input: no hit
   const double inv_ux = 1.0 / ux, inv_uy = 1.0 / uy;  // +-inf for axis-parallel rays
 
   // Entry point: the origin when it is inside the grid (the common case), else the point where

@@ -221,6 +221,13 @@ TEST(RayCaster, DegenerateMaps) {
   points.segments.push_back(seg(2, -1, 2, 1));
   const RayCaster one(points);
   EXPECT_EQ(one.cast(Vec2(0, 0), 0.0, 10.0).segment, 1);
+  // Non-finite input is a miss, not undefined behaviour.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(one.cast(Vec2(nan, 0), 0.0, 10.0).hit());
+  EXPECT_FALSE(one.cast(Vec2(0, 0), Vec2(nan, 0), 10.0).hit());
+  EXPECT_FALSE(one.castBruteForce(Vec2(nan, 0), 0.0, 10.0).hit());
+  EXPECT_FALSE(one.cast(Vec2(0, 0), 0.0, nan).hit());
+  EXPECT_FALSE(one.cast(Vec2(0, 0), 0.0, 0.0).hit());
 }
 
 TEST(RayCaster, TiesGoToTheLowerSegmentId) {
