@@ -5,6 +5,7 @@
 #include <cmath>
 #include <complex>
 #include <numeric>
+#include <unordered_map>
 
 #include "fitting.hpp"
 #include "glassmap/core/angles.hpp"
@@ -35,10 +36,10 @@ MaterialOptions VectorizeOptions::wallDefaults() {
   o.neighbour_radius = 0.11;
   o.normal_radius = 0.16;
   o.min_cells = 8;
-  o.min_length = 0.30;
+  o.min_length = 0.50;
   o.min_elongation = 2.5;
-  o.max_gap = 0.30;
-  o.merge_gap = 0.30;
+  o.max_gap = 0.50;    // real walls are seen in patches; doors (0.8 m and up) stay open
+  o.merge_gap = 0.50;
   o.merge_angle_deg = 6.0;
   o.merge_offset = 0.10;
   o.thickness = 0.10;
@@ -200,6 +201,31 @@ std::pair<double, double> projectedExtent(const Piece& p, const Piece& q) {
   return {std::min(u, v), std::max(u, v)};
 }
 
+// Calls f(i, j), i < j, for the alive pieces whose bounding boxes, grown by margin, overlap:
+// a sweep over x so that large maps do not cost a full pairwise pass.
+template <typename F>
+void forNearbyPairs(const std::vector<Piece>& pieces, double margin, F&& f) {
+  struct Entry {
+    double x0, x1, y0, y1;
+    std::size_t i;
+  };
+  std::vector<Entry> e;
+  e.reserve(pieces.size());
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    const Piece& p = pieces[i];
+    if (!p.alive) continue;
+    const Vec2 a = p.a(), b = p.b();
+    e.push_back({std::min(a.x(), b.x()) - margin, std::max(a.x(), b.x()) + margin, std::min(a.y(), b.y()) - margin,
+                 std::max(a.y(), b.y()) + margin, i});
+  }
+  std::sort(e.begin(), e.end(), [](const Entry& a, const Entry& b) { return a.x0 < b.x0 || (a.x0 == b.x0 && a.i < b.i); });
+  for (std::size_t k = 0; k < e.size(); ++k)
+    for (std::size_t m = k + 1; m < e.size() && e[m].x0 <= e[k].x1; ++m) {
+      if (e[m].y0 > e[k].y1 || e[k].y0 > e[m].y1) continue;
+      f(std::min(e[k].i, e[m].i), std::max(e[k].i, e[m].i));
+    }
+}
+
 // Greedy merging of collinear neighbours across gaps up to merge_gap, each merge accepted only when
 // one line explains both cell sets at a lower BIC than two.
 void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material material,
@@ -212,26 +238,27 @@ void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material
       std::size_t i, j;
     };
     std::vector<Candidate> candidates;
-    for (std::size_t i = 0; i < pieces.size(); ++i) {
+    forNearbyPairs(pieces, 0.5 * mo.merge_gap + mo.merge_offset, [&](std::size_t i, std::size_t j) {
       const Piece& p = pieces[i];
-      if (!p.alive) continue;
-      for (std::size_t j = i + 1; j < pieces.size(); ++j) {
-        const Piece& q = pieces[j];
-        if (!q.alive || std::abs(p.d.dot(q.d)) < cos_max) continue;
+      const Piece& q = pieces[j];
+      {
+        if (std::abs(p.d.dot(q.d)) < cos_max) return;
         const auto [u0, u1] = projectedExtent(p, q);
         const double gap = std::max(u0 - p.t1, p.t0 - u1);
-        if (gap > mo.merge_gap) continue;
+        if (gap > mo.merge_gap) return;
         const Vec2 np = p.normal(), nq = q.normal();
         const double off = std::max({std::abs(np.dot(q.a() - p.c)), std::abs(np.dot(q.b() - p.c)),
                                      std::abs(nq.dot(p.a() - q.c)), std::abs(nq.dot(p.b() - q.c))});
-        if (off > mo.merge_offset) continue;
+        if (off > mo.merge_offset) return;
         Moments u = p.moments;
         u += q.moments;
         const double gain = ctx.bic(p.moments.rss() + q.moments.rss(), u.n, 2) - ctx.bic(u.rss(), u.n, 1);
         if (gain > 0) candidates.push_back({gain, i, j});
       }
-    }
-    std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.gain > b.gain; });
+    });
+    std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+      return a.gain > b.gain || (a.gain == b.gain && std::make_pair(a.i, a.j) < std::make_pair(b.i, b.j));
+    });
     std::vector<bool> touched(pieces.size(), false);
     for (const Candidate& c : candidates) {
       if (touched[c.i] || touched[c.j]) continue;
@@ -267,17 +294,16 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
       std::size_t i, j;
     };
     std::vector<Candidate> candidates;
-    for (std::size_t i = 0; i < pieces.size(); ++i) {
+    forNearbyPairs(pieces, ctx.opt.max_wall_thickness, [&](std::size_t i, std::size_t j) {
       const Piece& p = pieces[i];
-      if (!p.alive) continue;
-      for (std::size_t j = i + 1; j < pieces.size(); ++j) {
-        const Piece& q = pieces[j];
-        if (!q.alive || std::abs(p.d.dot(q.d)) < cos_max) continue;
+      const Piece& q = pieces[j];
+      {
+        if (std::abs(p.d.dot(q.d)) < cos_max) return;
         const double sep = std::abs(p.normal().dot(q.c - p.c));
-        if (sep > ctx.opt.max_wall_thickness) continue;
+        if (sep > ctx.opt.max_wall_thickness) return;
         const auto [u0, u1] = projectedExtent(p, q);
         const double overlap = std::min(u1, p.t1) - std::max(u0, p.t0);
-        if (overlap < 0.5 * std::min(p.length(), q.length())) continue;
+        if (overlap < 0.5 * std::min(p.length(), q.length())) return;
         // Free cells between the faces: a corridor or a gap, not one wall.
         const double lo = std::max(u0, p.t0), hi = std::min(u1, p.t1);
         int free = 0;
@@ -288,11 +314,13 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
           const Vec2 foot = q.c + q.d * q.d.dot(on_p - q.c);
           if (isFree(0.5 * (on_p + foot))) ++free;
         }
-        if (free * 3 > kSamples) continue;
+        if (free * 3 > kSamples) return;
         candidates.push_back({sep, i, j});
       }
-    }
-    std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.sep < b.sep; });
+    });
+    std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+      return a.sep < b.sep || (a.sep == b.sep && std::make_pair(a.i, a.j) < std::make_pair(b.i, b.j));
+    });
     std::vector<bool> touched(pieces.size(), false);
     for (const Candidate& c : candidates) {
       if (touched[c.i] || touched[c.j]) continue;
@@ -506,15 +534,36 @@ void snapCorners(std::vector<Piece>& glass, std::vector<Piece>& walls, const Con
     double t;
   };
   std::vector<Move> moves;
+  // Walls bucketed by their boxes grown by the snap distance, on a 2 m grid.
+  constexpr double kBucket = 2.0;
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> buckets;
+  const auto key = [](std::int64_t bx, std::int64_t by) { return (bx << 32) ^ (by & 0xffffffff); };
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    const Vec2 lo = walls[k].a().cwiseMin(walls[k].b()) - Vec2::Constant(2 * snap);
+    const Vec2 hi = walls[k].a().cwiseMax(walls[k].b()) + Vec2::Constant(2 * snap);
+    for (auto bx = static_cast<std::int64_t>(std::floor(lo.x() / kBucket)); bx <= std::floor(hi.x() / kBucket); ++bx)
+      for (auto by = static_cast<std::int64_t>(std::floor(lo.y() / kBucket)); by <= std::floor(hi.y() / kBucket); ++by)
+        buckets[key(bx, by)].push_back(k);
+  }
+  static const std::vector<std::size_t> kNone;
+  const auto near = [&](const Vec2& q) -> const std::vector<std::size_t>& {
+    const auto it = buckets.find(key(static_cast<std::int64_t>(std::floor(q.x() / kBucket)),
+                                     static_cast<std::int64_t>(std::floor(q.y() / kBucket))));
+    return it == buckets.end() ? kNone : it->second;
+  };
+  // Only pieces long enough to be walls (or panes) of the plan take part; clutter stays apart.
+  const double min_len = 2.0 * snap;
   const auto consider = [&](Piece& p, bool own_wall_index_valid, std::size_t own) {
+    if (p.length() < min_len) return;
     for (int e = 0; e < 2; ++e) {
       const Vec2 end = e == 0 ? p.a() : p.b();
       double best = snap;
       double best_t = 0;
       bool found = false;
-      for (std::size_t k = 0; k < walls.size(); ++k) {
+      for (const std::size_t k : near(end)) {
         if (own_wall_index_valid && k == own) continue;
         const Piece& w = walls[k];
+        if (w.length() < min_len) continue;
         const double cross = p.d.x() * w.d.y() - p.d.y() * w.d.x();
         if (std::abs(cross) < sin_min) continue;
         // p.c + t p.d = w.c + s w.d

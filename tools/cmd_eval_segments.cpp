@@ -1,0 +1,80 @@
+// glassmap eval segments --truth FLOORPLAN --pred FLOORPLAN: segment-level floorplan scores.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.hpp"
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
+#include "glassmap/eval/segments.hpp"
+#include "glassmap/io/floorplan.hpp"
+
+namespace glassmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct EvalSegmentsArgs {
+  std::string truth, pred, json;
+  eval::SegmentEvalOptions options;
+  bool quiet = false;
+};
+
+nlohmann::json scoresJson(const eval::MaterialScores& s) {
+  return {{"precision", s.precision},         {"recall", s.recall},           {"f1", s.f1},
+          {"truth_length_m", s.truth_length}, {"pred_length_m", s.pred_length}, {"truth_segments", s.truth_segments},
+          {"pred_segments", s.pred_segments}};
+}
+
+void run(const EvalSegmentsArgs& args) {
+  const VectorMap truth = readFloorplan(args.truth);
+  const VectorMap pred = readFloorplan(args.pred);
+  const eval::SegmentEvalResult r = eval::evaluateSegments(truth, pred, args.options);
+  const nlohmann::json j = {{"truth", args.truth},
+                            {"pred", args.pred},
+                            {"tolerance_m", r.tolerance},
+                            {"glass", scoresJson(r.glass)},
+                            {"wall", scoresJson(r.wall)},
+                            {"glass_angle_error_deg", r.glass_angle_error_deg},
+                            {"oversegmentation", r.oversegmentation},
+                            {"panes_found", r.panes_found},
+                            {"segments_per_found_pane", r.segments_per_found_pane},
+                            {"longest_false_glass_m", r.longest_false_glass}};
+  if (!args.json.empty())
+    writeAtomically(args.json, [&](const fs::path& tmp) {
+      std::ofstream o(tmp);
+      o << j.dump(2) << "\n";
+      if (!o) throw Error("cannot write", args.json);
+    });
+  if (args.quiet) return;
+  std::printf("tolerance %.3f m\n", r.tolerance);
+  std::printf("  %-6s %9s %9s %9s %10s %10s %6s %6s\n", "", "precision", "recall", "F1", "truth [m]", "pred [m]",
+              "#truth", "#pred");
+  for (const auto& [name, s] : {std::pair<const char*, const eval::MaterialScores&>{"glass", r.glass}, {"wall", r.wall}})
+    std::printf("  %-6s %9.3f %9.3f %9.3f %10.2f %10.2f %6zu %6zu\n", name, s.precision, s.recall, s.f1,
+                s.truth_length, s.pred_length, s.truth_segments, s.pred_segments);
+  std::printf("  glass angle error %.2f deg; over-segmentation %.2f (predicted / true panes);\n"
+              "  %zu panes found, %.2f predicted segments per found pane; longest false glass %.2f m\n",
+              r.glass_angle_error_deg, r.oversegmentation, r.panes_found, r.segments_per_found_pane,
+              r.longest_false_glass);
+}
+
+const cli::Registrar reg(74, [](CLI::App& app) {
+  auto args = std::make_shared<EvalSegmentsArgs>();
+  CLI::App& eval = cli::verb(app, "eval", "Score maps and trajectories against ground truth.");
+  CLI::App* cmd = eval.add_subcommand(
+      "segments", "Score a vector floorplan against the true one: length-weighted precision/recall/F1 of glass\n"
+                  "and walls (samples every 2 cm matched within --tol), glass angle error, over-segmentation.");
+  cmd->add_option("--truth", args->truth, "true floorplan (any format glassmap reads)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--pred", args->pred, "predicted floorplan, e.g. DIR/floorplan.gpkg")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--tol", args->options.tolerance, "match distance [m]")->capture_default_str();
+  cmd->add_option("--step", args->options.sample_step, "sample spacing [m]")->capture_default_str();
+  cmd->add_option("--json", args->json, "also write the figures to this JSON file");
+  cmd->add_flag("-q,--quiet", args->quiet, "print nothing (use with --json)");
+  cmd->callback([args] { run(*args); });
+});
+
+}  // namespace
+}  // namespace glassmap

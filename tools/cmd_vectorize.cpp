@@ -1,0 +1,126 @@
+// glassmap vectorize DIR/labels.tif -o OUT: label raster -> wall and glass floorplan.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli_common.hpp"
+#include "glassmap/core/angles.hpp"
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
+#include "glassmap/io/labels_raster.hpp"
+#include "glassmap/vector/export.hpp"
+#include "glassmap/vector/vectorize.hpp"
+
+namespace glassmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct VectorizeArgs {
+  std::string labels, out, formats = "gpkg,geojson,dxf,svg,png", json;
+  bool no_regularize = false, quiet = false;
+  vector::VectorizeOptions options;
+};
+
+// OUT: an existing directory or one ending in '/' -> DIR/floorplan; "name.<format>" -> "name"; else the stem itself.
+fs::path outputStem(const std::string& out) {
+  const fs::path p(out);
+  if (!out.empty() && (out.back() == '/' || fs::is_directory(p))) return p / "floorplan";
+  if (vector::isExportFormat(p)) return fs::path(p).replace_extension();
+  return p;
+}
+
+std::vector<std::string> splitFormats(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream ss(list);
+  for (std::string f; std::getline(ss, f, ',');) {
+    if (f.empty()) continue;
+    if (!vector::isExportFormat("x." + f)) throw Error("unknown format '" + f + "'", {}, 0, "--formats");
+    out.push_back(f);
+  }
+  if (out.empty()) throw Error("no output format given", {}, 0, "--formats");
+  return out;
+}
+
+void run(const VectorizeArgs& args) {
+  const std::vector<std::string> formats = splitFormats(args.formats);
+  const vector::LabelGrid grid = vector::toLabelGrid(readLabelRaster(args.labels));
+  vector::VectorizeOptions options = args.options;
+  options.regularize = !args.no_regularize;
+  vector::VectorizeResult r = vector::vectorize(grid, options);
+  r.map.name = fs::path(args.labels).parent_path().filename().string();
+  const fs::path stem = outputStem(args.out);
+  if (stem.has_parent_path()) fs::create_directories(stem.parent_path());
+  const auto written = vector::writeFloorplanSet(stem, r.map, formats);
+
+  const auto& s = r.stats;
+  const nlohmann::json j = {{"labels", args.labels},
+                            {"glass_segments", r.map.count(Material::Glass)},
+                            {"wall_segments", r.map.count(Material::Wall)},
+                            {"glass_cells", s.glass_cells},
+                            {"wall_cells", s.wall_cells},
+                            {"regions", s.regions},
+                            {"bic_splits", s.bic_splits},
+                            {"merges", s.merges},
+                            {"face_merges", s.face_merges},
+                            {"regularized", s.regularized},
+                            {"corners", s.corners},
+                            {"dropped", s.dropped},
+                            {"dominant_axis_deg", s.dominant_axis_deg},
+                            {"seconds", s.seconds}};
+  if (!args.json.empty())
+    writeAtomically(args.json, [&](const fs::path& tmp) {
+      std::ofstream o(tmp);
+      o << j.dump(2) << "\n";
+      if (!o) throw Error("cannot write", args.json);
+    });
+  if (args.quiet) return;
+  std::printf("%-22s %zu x %zu cells at %.3f m\n", "labels", static_cast<std::size_t>(grid.width),
+              static_cast<std::size_t>(grid.height), grid.resolution);
+  std::printf("%-22s %zu glass, %zu wall\n", "cells", s.glass_cells, s.wall_cells);
+  std::printf("%-22s %zu glass, %zu wall\n", "segments", r.map.count(Material::Glass), r.map.count(Material::Wall));
+  std::printf("%-22s %zu regions, %zu BIC splits, %zu merges, %zu wall faces merged, %zu dropped\n", "fitting",
+              s.regions, s.bic_splits, s.merges, s.face_merges, s.dropped);
+  std::printf("%-22s %.1f deg, %zu segments snapped, %zu ends joined\n", "axes", s.dominant_axis_deg, s.regularized,
+              s.corners);
+  std::printf("%-22s %.3f s\n", "time", s.seconds);
+  for (const auto& p : written) std::printf("%-22s %s\n", "wrote", p.string().c_str());
+}
+
+void addMaterialOptions(CLI::App* cmd, const std::string& prefix, vector::MaterialOptions& o) {
+  cmd->add_option("--" + prefix + "-merge-gap", o.merge_gap, prefix + ": merge collinear pieces across gaps up to this [m]")
+      ->capture_default_str();
+  cmd->add_option("--" + prefix + "-min-length", o.min_length, prefix + ": drop shorter segments [m]")->capture_default_str();
+  cmd->add_option("--" + prefix + "-max-distance", o.max_distance, prefix + ": region growing band half-width [m]")
+      ->capture_default_str();
+}
+
+const cli::Registrar reg(50, [](CLI::App& app) {
+  auto args = std::make_shared<VectorizeArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "vectorize",
+      "Fit wall and glass line segments to a label GeoTIFF (DIR/labels.tif of 'glassmap map').\n"
+      "OUT is a stem: writes OUT.gpkg, OUT.geojson, OUT.dxf, OUT.svg, OUT.png (see --formats);\n"
+      "an existing directory or a path ending in '/' writes DIR/floorplan.*; 'plan.gpkg' means the stem 'plan'.");
+  cmd->add_option("labels", args->labels, "label GeoTIFF (codes 0 unknown, 1 empty, 2 occupied, 10+k glass)")
+      ->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", args->out, "output stem or directory")->required();
+  cmd->add_option("--formats", args->formats, "comma-separated: gpkg,geojson,json,shp,fgb,dxf,svg,png,pdf")
+      ->capture_default_str();
+  cmd->add_flag("--no-regularize", args->no_regularize, "keep fitted directions (no snapping to the dominant axes)");
+  cmd->add_option("--corner-snap", args->options.corner_snap, "join wall ends this close to another wall [m] (0: off)")
+      ->capture_default_str();
+  cmd->add_option("--max-wall-thickness", args->options.max_wall_thickness,
+                  "merge parallel wall faces closer than this into one centre line [m]")->capture_default_str();
+  addMaterialOptions(cmd, "glass", args->options.glass);
+  addMaterialOptions(cmd, "wall", args->options.wall);
+  cmd->add_option("--json", args->json, "also write the figures to this JSON file");
+  cmd->add_flag("-q,--quiet", args->quiet, "print nothing");
+  cmd->callback([args] { run(*args); });
+});
+
+}  // namespace
+}  // namespace glassmap
