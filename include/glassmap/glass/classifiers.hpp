@@ -30,7 +30,7 @@ struct HeuristicOptions {
 /// EMP a hit by p_hit_emp (spurious returns). Sums of logs, normalised over all labels.
 struct DirectOptions {
   double sigmoid_margin = 5.0;     ///< delta of the sigmoid [cells] (paper: 5)
-  double direct_sigma_deg = 3.0;   ///< angular sigma of the direct-reflection lobe [deg]
+  double direct_sigma_deg = 2.0;   ///< angular sigma of the direct-reflection lobe [deg]
   double direct_peak = 0.9;        ///< P(return from the pane) at normal incidence
   double lobe_floor = 1e-3;        ///< least P(hit | glass) far off the lobe
   double p_hit_occ = 0.7;          ///< P(a beam reaching an occupied cell ends there)
