@@ -1,0 +1,37 @@
+#pragma once
+/// MRF refinement of a mapped grid's cell evidence (paper 2.5.5), tile by tile so that memory
+/// stays bounded on large floors.
+
+#include <string>
+
+#include "glassmap/glass/evidence.hpp"
+#include "glassmap/mrf/solver.hpp"
+
+namespace glassmap::mrf {
+
+/// Settings of the refinement.
+struct RefineOptions {
+  std::string solver = "expansion";  ///< "swap", "expansion" or "icm"
+  std::string psi = "closed";        ///< "paper", "closed" or "neutral" (see psiByName)
+  double unary_weight = 1.0;         ///< scale of the -log posteriors against Psi [-]
+  int tile = 256;                    ///< tile side [cells]; each tile is solved with its border fixed
+  int sweeps = 2;                    ///< passes over all tiles (later passes see updated borders)
+  MrfOptions solve;                  ///< stopping rules per tile
+};
+
+/// What the refinement did.
+struct RefineResult {
+  int tiles = 0;                 ///< tiles solved (with candidate cells), summed over sweeps
+  std::size_t active_cells = 0;  ///< candidate cells in the energy (first sweep)
+  std::size_t changed = 0;       ///< cells whose label the MRF changed
+  std::int64_t energy_before = 0;  ///< summed tile energies before (first sweep) [1/kCostScale]
+  std::int64_t energy_after = 0;   ///< summed tile energies after (last sweep)
+  double seconds = 0.0;
+};
+
+/// Relabels the candidate cells of `evidence` by minimising unary (weighted costs) + Psi over the
+/// 8-neighbourhood. Non-candidate cells keep their label and act as fixed neighbours (unknown
+/// cells count as empty). Deterministic.
+RefineResult refine(glass::CellEvidence& evidence, const RefineOptions& options = {});
+
+}  // namespace glassmap::mrf

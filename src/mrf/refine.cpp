@@ -1,0 +1,92 @@
+#include "glassmap/mrf/refine.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "glassmap/core/error.hpp"
+
+namespace glassmap::mrf {
+
+RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RefineResult result;
+  const int W = ev.geometry.width, H = ev.geometry.height, L = ev.num_labels;
+  if (L != glass::numLabels(ev.bins)) throw Error("evidence has inconsistent label count");
+  if (options.tile < 8) throw Error("MRF tile must be at least 8 cells", {}, 0, "tile");
+  if (options.unary_weight <= 0) throw Error("unary weight must be positive", {}, 0, "unary_weight");
+  const std::vector<int32_t> psi = psiByName(options.psi, ev.bins);
+  const auto solver = makeSolver(options.solver, options.solve);
+  const std::vector<std::uint8_t> before = ev.label;
+
+  // Candidate cells per tile (cells is sorted by linear index y * W + x).
+  const int tiles_x = (W + options.tile - 1) / options.tile;
+  const int tiles_y = (H + options.tile - 1) / options.tile;
+  std::vector<std::vector<std::uint32_t>> tile_cells(static_cast<std::size_t>(tiles_x) * tiles_y);
+  for (std::size_t i = 0; i < ev.cells.size(); ++i) {
+    const int x = static_cast<int>(ev.cells[i] % static_cast<std::uint32_t>(W));
+    const int y = static_cast<int>(ev.cells[i] / static_cast<std::uint32_t>(W));
+    tile_cells[static_cast<std::size_t>(y / options.tile) * tiles_x + x / options.tile].push_back(
+        static_cast<std::uint32_t>(i));
+  }
+  result.active_cells = ev.cells.size();
+
+  const auto fixedLabel = [](std::uint8_t label) -> std::uint16_t {
+    return label == glass::kUnknown ? static_cast<std::uint16_t>(glass::kEmpty) : label;
+  };
+  LabelEnergy e;
+  std::vector<std::uint16_t> labels;
+  for (int sweep = 0; sweep < options.sweeps; ++sweep) {
+    std::int64_t before_sum = 0, after_sum = 0;
+    for (int ty = 0; ty < tiles_y; ++ty) {
+      for (int tx = 0; tx < tiles_x; ++tx) {
+        const auto& members = tile_cells[static_cast<std::size_t>(ty) * tiles_x + tx];
+        if (members.empty()) continue;
+        // The tile plus a one-cell border of fixed neighbours.
+        const int x0 = std::max(0, tx * options.tile - 1), y0 = std::max(0, ty * options.tile - 1);
+        const int x1 = std::min(W, (tx + 1) * options.tile + 1), y1 = std::min(H, (ty + 1) * options.tile + 1);
+        e.width = x1 - x0;
+        e.height = y1 - y0;
+        e.num_labels = L;
+        e.pairwise = psi;
+        const std::size_t n = e.cells();
+        e.unary.assign(n * static_cast<std::size_t>(L), 0);
+        e.active.assign(n, 0);
+        e.candidates.clear();
+        labels.resize(n);
+        for (int y = y0; y < y1; ++y)
+          for (int x = x0; x < x1; ++x)
+            labels[static_cast<std::size_t>(y - y0) * e.width + (x - x0)] =
+                fixedLabel(ev.label[static_cast<std::size_t>(y) * W + x]);
+        for (const std::uint32_t i : members) {
+          const std::uint32_t cell = ev.cells[i];
+          const int x = static_cast<int>(cell % static_cast<std::uint32_t>(W)) - x0;
+          const int y = static_cast<int>(cell / static_cast<std::uint32_t>(W)) - y0;
+          const std::size_t c = static_cast<std::size_t>(y) * e.width + x;
+          const float* cost = ev.costs(i);
+          for (int l = 0; l < L; ++l)
+            e.unary[c * L + l] = static_cast<int32_t>(std::lround(options.unary_weight * cost[l] * kCostScale));
+          e.active[c] = 1;
+        }
+        restrictCandidates(e);
+        const MrfResult r = solver->solve(e, labels);
+        before_sum += r.initial_energy;
+        after_sum += r.energy;
+        ++result.tiles;
+        for (const std::uint32_t i : members) {
+          const std::uint32_t cell = ev.cells[i];
+          const int x = static_cast<int>(cell % static_cast<std::uint32_t>(W)) - x0;
+          const int y = static_cast<int>(cell / static_cast<std::uint32_t>(W)) - y0;
+          ev.label[cell] = static_cast<std::uint8_t>(labels[static_cast<std::size_t>(y) * e.width + x]);
+        }
+      }
+    }
+    if (sweep == 0) result.energy_before = before_sum;
+    result.energy_after = after_sum;
+  }
+  for (std::size_t c = 0; c < ev.label.size(); ++c) result.changed += ev.label[c] != before[c];
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return result;
+}
+
+}  // namespace glassmap::mrf
