@@ -28,6 +28,7 @@ struct LocalizeArgs {
   std::string laser_offset;
   std::uint64_t seed = 1;
   double sigma_hit = 0.05;
+  double global_temperature = 30.0;
   bool no_inject = false;
   bool quiet = false;
 };
@@ -59,6 +60,7 @@ void run(const LocalizeArgs& a) {
   opt.filter.adaptive = !a.fixed;
   opt.filter.inject = !a.no_inject;
   opt.filter.seed = a.seed;
+  opt.filter.global_temperature = a.global_temperature;
   if (!a.init.empty()) opt.init = parsePose(a.init, "init");
   if (!a.laser_offset.empty()) opt.T_base_laser = parsePose(a.laser_offset, "laser-offset");
   if (!a.quiet && cli::stderrIsTerminal())
@@ -72,6 +74,7 @@ void run(const LocalizeArgs& a) {
                                   {"updates", r.updates},
                                   {"resamplings", r.resamplings},
                                   {"injected_particles", r.injected},
+                                  {"relocalizations", r.relocalizations},
                                   {"mean_particles", r.mean_particles},
                                   {"beams", a.beams},
                                   {"seconds", r.seconds},
@@ -89,6 +92,7 @@ void run(const LocalizeArgs& a) {
     std::printf("%-18s %12.3f\n", "ms per update", 1e3 * r.seconds_per_update);
     std::printf("%-18s %12.1f\n", "real-time factor", r.realTimeFactor());
     std::printf("%-18s %12zu\n", "injected", r.injected);
+    std::printf("%-18s %12zu\n", "relocalizations", r.relocalizations);
     std::printf("wrote %s\n", a.out.c_str());
   }
 }
@@ -116,6 +120,9 @@ const cli::Registrar reg(60, [](CLI::App& app) {
   sub->add_option("--init", a->init, "initial laser pose x,y,theta [m,m,rad]; without it: global localization");
   sub->add_option("--laser-offset", a->laser_offset, "laser pose on the robot x,y,theta [m,m,rad] (default 0,0,0)");
   sub->add_option("--sigma-hit", a->sigma_hit, "range std dev of the sensor models [m]")->capture_default_str();
+  sub->add_option("--global-temperature", a->global_temperature,
+                  "global localization: divide log-likelihoods by this until the cloud converges")
+      ->capture_default_str();
   sub->add_flag("--no-inject", a->no_inject, "never inject random particles (no recovery)");
   sub->add_option("--seed", a->seed, "random seed; the same seed gives the same estimate")->capture_default_str();
   sub->add_option("--json", a->json, "also write the summary as JSON");

@@ -75,6 +75,7 @@ LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model
     }
     result.spread.push_back(filter.spread());
   }
+  result.relocalizations = filter.relocalizations();
   result.seconds = std::chrono::duration<double>(clock() - t_start).count();
   result.seconds_per_update = result.updates ? update_seconds / static_cast<double>(result.updates) : 0.0;
   result.mean_particles = result.updates ? particle_sum / static_cast<double>(result.updates) : 0.0;

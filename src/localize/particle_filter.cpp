@@ -93,6 +93,7 @@ void ParticleFilter::initialize(const Pose2& pose, double sigma_xy, double sigma
     p.log_w = log_w;
   }
   w_slow_ = w_fast_ = 0.0;
+  annealing_ = false;
 }
 
 void ParticleFilter::initializeGlobal() {
@@ -103,9 +104,12 @@ void ParticleFilter::initializeGlobal() {
     p.log_w = log_w;
   }
   w_slow_ = w_fast_ = 0.0;
+  annealing_ = opt_.global_temperature > 1.0;
+  travelled_ = 0.0;
 }
 
 void ParticleFilter::predict(const OdometryDelta& delta) {
+  travelled_ += std::abs(delta.trans);
   for (Particle& p : particles_) p.pose = sampleMotionOdometry(p.pose, delta, opt_.noise, rng_);
 }
 
@@ -131,6 +135,8 @@ bool ParticleFilter::correct(const sensor::BeamSet& beams) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i < r.end(); ++i) ll[i] = model_.logLikelihood(particles_[i].pose, beams);
   });
+  if (annealing_)
+    for (double& v : ll) v /= opt_.global_temperature;
   // Marginal likelihood of the scan under the prior weights, per beam (a geometric mean keeps it in
   // range for any beam count): the augmented-MCL averages track it (table 8.3).
   for (std::size_t i = 0; i < n; ++i) {
@@ -146,9 +152,22 @@ bool ParticleFilter::correct(const sensor::BeamSet& beams) {
     w_fast_ += opt_.alpha_fast * (w_avg - w_fast_);
   }
   for (Particle& p : particles_) p.log_w -= log_marginal;
-  const double p_inject = opt_.inject ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
+  if (opt_.inject && !annealing_ && opt_.relocalize_ratio > 0 && w_fast_ < opt_.relocalize_ratio * w_slow_) {
+    // Kidnapped or hopelessly lost: a few random particles over a whole floor rarely land near
+    // the robot; start over with a full global cloud.
+    initializeGlobal();
+    ++relocalizations_;
+    last_injected_ = particles_.size();
+    return true;
+  }
+  // No injection while annealing: the whole cloud is still a set of random guesses.
+  const double p_inject = opt_.inject && !annealing_ ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
   if (effectiveSampleSize() < opt_.resample_ess * static_cast<double>(n) || p_inject > 0.05) {
     resample();
+    if (annealing_ && travelled_ >= opt_.anneal_min_travel && spread() < opt_.converged_spread) {
+      annealing_ = false;
+      w_slow_ = w_fast_ = 0.0;  // the likelihood averages restart at the untempered scale
+    }
     return true;
   }
   last_injected_ = 0;
@@ -168,7 +187,8 @@ void ParticleFilter::resample() {
     std::partial_sum(w.begin(), w.end(), cdf.begin());
     std::unordered_set<std::int64_t> bins;
     std::size_t drawn = 0;
-    const auto lo = static_cast<std::size_t>(opt_.min_particles);
+    const auto lo = static_cast<std::size_t>(
+        annealing_ ? std::max(opt_.min_particles, opt_.max_particles / 10) : opt_.min_particles);
     while (drawn < count) {
       const double r = u01(rng_) * cdf.back();
       const std::size_t i = std::min<std::size_t>(
@@ -179,7 +199,8 @@ void ParticleFilter::resample() {
     }
     count = std::max(drawn, lo);
   }
-  const double p_inject = opt_.inject && w_slow_ > 0 ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
+  const double p_inject =
+      opt_.inject && !annealing_ && w_slow_ > 0 ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
   const auto injected = static_cast<std::size_t>(std::floor(p_inject * static_cast<double>(count)));
   const std::size_t kept = count - injected;
   std::vector<Particle> next;

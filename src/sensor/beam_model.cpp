@@ -19,10 +19,20 @@ VectorMap visibleMap(const VectorMap& map, GlassAs glass_as) {
 BeamModel::BeamModel(const VectorMap& map, const SensorParams& params)
     : map_(map), caster_(visibleMap(map, params.glass_as)), mix_(params) {}
 
+double BeamModel::probability(const Vec2& origin, const Vec2& dir, double z, double max_range) const {
+  const double e = caster_.castRange(origin, dir, max_range);  // +inf when nothing is hit
+  return mix_.probability(z, e, max_range);
+}
+
 double BeamModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
                                 double max_range) const {
-  const double e = caster_.castRange(T_map_laser.t, dir, max_range);  // +inf when nothing is hit
-  return std::log(mix_.probability(z, e, max_range));
+  return std::log(probability(T_map_laser.t, dir, z, max_range));
+}
+
+double BeamModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const {
+  return sumLogProbabilities(T_map_laser, beams, [&](const Vec2& dir, double z) {
+    return probability(T_map_laser.t, dir, z, beams.max_range);
+  });
 }
 
 }  // namespace glassmap::sensor

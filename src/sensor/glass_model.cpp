@@ -65,10 +65,19 @@ GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& 
 
 double GlassModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
                                  double max_range) const {
-  const RayHit hit = caster_.cast(T_map_laser.t, dir, max_range);
-  if (!hit.hit() || hit.material == Material::Wall)
-    return std::log(mix_.probability(z, hit.range, max_range));
-  const GlassModes m = modes(T_map_laser.t, dir, hit, max_range);
+  return std::log(probability(T_map_laser.t, dir, z, max_range));
+}
+
+double GlassModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const {
+  return sumLogProbabilities(T_map_laser, beams, [&](const Vec2& dir, double z) {
+    return probability(T_map_laser.t, dir, z, beams.max_range);
+  });
+}
+
+double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, double max_range) const {
+  const RayHit hit = caster_.cast(origin, dir, max_range);
+  if (!hit.hit() || hit.material == Material::Wall) return mix_.probability(z, hit.range, max_range);
+  const GlassModes m = modes(origin, dir, hit, max_range);
   const bool max_reading = z >= max_range;
   if (variant_ == Variant::Mixture) {
     const double sum = m.w_direct + m.w_normal + m.w_refract;  // > 0: w_normal never vanishes
@@ -85,7 +94,7 @@ double GlassModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, doub
       p = mix_.w_hit * hit_density + mix_.w_short * mix_.shortDensity(z, m.d_g, max_range) +
           mix_.w_rand / max_range;
     }
-    return std::log(p);
+    return p;
   }
   // Paper 2.4, as written: alpha_1 = (z, ref), alpha_2 = (z, norm), alpha_3 = (z, direct), each the
   // mode's weight times an unnormalised Gaussian; a mode meeting nothing expects z_max.
@@ -95,7 +104,7 @@ double GlassModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, doub
   const double a3 = m.w_direct * mix_.gauss(zz, m.d_g);
   const double p = a1 + a2 + a3 - a1 * a2 - a1 * a3 - a2 * a3;
   // Guard: the formula goes negative when two densities exceed 1; floor at the random density.
-  return std::log(std::max(p, mix_.w_rand / max_range));
+  return std::max(p, mix_.w_rand / max_range);
 }
 
 }  // namespace glassmap::sensor

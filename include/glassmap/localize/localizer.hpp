@@ -30,6 +30,7 @@ struct LocalizeResult {
   std::size_t updates = 0;              ///< measurement updates (corrections)
   std::size_t resamplings = 0;
   std::size_t injected = 0;             ///< random particles injected in total
+  std::size_t relocalizations = 0;      ///< global re-initialisations after a collapse
   double mean_particles = 0.0;          ///< mean particle count over the updates
   double seconds = 0.0;                 ///< wall time of the filter [s]
   double seconds_per_update = 0.0;      ///< mean wall time of predict + correct [s]

@@ -32,7 +32,15 @@ struct FilterOptions {
   double alpha_slow = 0.001;     ///< augmented MCL: long-term likelihood average rate [-]
   double alpha_fast = 0.1;       ///< augmented MCL: short-term likelihood average rate [-]
   bool inject = true;            ///< inject random particles when the likelihood collapses
+  double relocalize_ratio = 0.02;  ///< w_fast / w_slow below this: the robot is lost beyond what
+                                   ///< injection repairs; restart global localization (0 = never)
   double free_clearance = 0.2;   ///< random particles keep this distance from segments [m]
+  double global_temperature = 30.0;  ///< while the cloud is spread (global localization), the
+                                     ///< log-likelihoods are divided by this: annealing that keeps
+                                     ///< near-miss hypotheses alive [-]; 1 = off
+  double converged_spread = 0.5;     ///< the cloud counts as converged below this std dev [m] ...
+  double anneal_min_travel = 5.0;    ///< ... after the robot travelled at least this far [m];
+                                     ///< meanwhile KLD keeps at least max_particles / 10
   OdometryNoise noise;           ///< motion model noise
   std::uint64_t seed = 1;        ///< random seed: equal seeds give equal runs
 };
@@ -61,6 +69,10 @@ class ParticleFilter {
   double effectiveSampleSize() const;
   const std::vector<Particle>& particles() const { return particles_; }
   std::size_t size() const { return particles_.size(); }
+  /// True while the log-likelihoods are tempered (after a global init until the cloud converges).
+  bool annealing() const { return annealing_; }
+  /// Global re-initialisations after a collapse (kidnapping) so far.
+  std::size_t relocalizations() const { return relocalizations_; }
   /// Random particles injected at the last resampling.
   std::size_t lastInjected() const { return last_injected_; }
   /// A random pose in free space.
@@ -78,6 +90,9 @@ class ParticleFilter {
   double free_cell_ = 0.1;        // their size [m]
   double w_slow_ = 0.0, w_fast_ = 0.0;
   std::size_t last_injected_ = 0;
+  bool annealing_ = false;
+  std::size_t relocalizations_ = 0;
+  double travelled_ = 0.0;  // since the global init [m]
   std::vector<double> scratch_;
 };
 

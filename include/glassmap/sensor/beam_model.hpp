@@ -15,10 +15,11 @@ class BeamModel final : public SensorModel {
   std::string name() const override { return "beam"; }
   double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
                        double max_range) const override;
-  using SensorModel::logLikelihood;
+  double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const override;
   const VectorMap& map() const override { return map_; }
 
  private:
+  double probability(const Vec2& origin, const Vec2& dir, double z, double max_range) const;
   VectorMap map_;     // the full map (glass included)
   RayCaster caster_;  // over the map, or its walls only when glass is invisible
   Mixture mix_;

@@ -36,13 +36,14 @@ class GlassModel final : public SensorModel {
   std::string name() const override { return variant_ == Variant::Paper ? "glass-paper" : "glass"; }
   double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
                        double max_range) const override;
-  using SensorModel::logLikelihood;
+  double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const override;
   const VectorMap& map() const override { return caster_.map(); }
 
   /// The modes for a pane hit `hit` by the ray origin + s dir (casts the mirrored and continued rays).
   GlassModes modes(const Vec2& origin, const Vec2& dir, const RayHit& hit, double max_range) const;
 
  private:
+  double probability(const Vec2& origin, const Vec2& dir, double z, double max_range) const;
   RayCaster caster_;
   SensorParams params_;
   Mixture mix_;

@@ -2,6 +2,8 @@
 /// The beam-model mixture (Probabilistic Robotics eq. 6.4-6.12) as densities over a reading z in
 /// [0, z_max) plus a point mass at z_max. Shared by the beam and glass models.
 
+#include <cmath>
+
 #include "glassmap/sensor/sensor_model.hpp"
 
 namespace glassmap::sensor {
@@ -27,5 +29,22 @@ struct Mixture {
   /// and returns its probability mass.
   double probability(double z, double e, double z_max) const;
 };
+
+/// Sum of log p_i over beams for a per-beam probability function: multiplies blocks of 8 before
+/// taking one log (each p_i lies in [z_rand / z_max, 1 / sigma], so a block cannot under- or
+/// overflow) to save most of the logs.
+template <class Prob>
+double sumLogProbabilities(const Pose2& T_map_laser, const BeamSet& beams, Prob&& prob) {
+  const Eigen::Matrix2d R = T_map_laser.rotation();
+  double sum = 0.0, block = 1.0;
+  for (std::size_t i = 0; i < beams.size(); ++i) {
+    block *= prob(Vec2(R * beams.dirs[i]), beams.ranges[i]);
+    if ((i & 7) == 7) {
+      sum += std::log(block);
+      block = 1.0;
+    }
+  }
+  return sum + std::log(block);
+}
 
 }  // namespace glassmap::sensor
