@@ -163,16 +163,18 @@ CellEvidence classifyHeuristic(const grid::HitMissGrid& counts, const AngleHisto
     const std::uint16_t* m = hist.misses(ids[i]);
     int total_h = 0, total_m = 0;
     for (int b = 0; b < bins; ++b) { total_h += h[b]; total_m += m[b]; }
-    // Window of three bins with the most hits.
-    int best = 0, best_h = -1;
-    for (int k = 0; k < bins; ++k) {
-      const int wh = h[(k + bins - 1) % bins] + h[k] + h[(k + 1) % bins];
-      if (wh > best_h || (wh == best_h && h[k] > h[best])) { best_h = wh; best = k; }
+    // The lobe: the bin with the most hits (ties: more hits in its neighbours) and its two
+    // neighbours. Glass: the best bin is mostly hit, the bins outside the lobe mostly missed.
+    int best = 0;
+    auto lobeHits = [&](int k) { return h[(k + bins - 1) % bins] + h[k] + h[(k + 1) % bins]; };
+    for (int k = 1; k < bins; ++k) {
+      if (h[k] > h[best] || (h[k] == h[best] && lobeHits(k) > lobeHits(best))) best = k;
     }
-    const int wm = m[(best + bins - 1) % bins] + m[best] + m[(best + 1) % bins];
-    const int oh = total_h - best_h, om = total_m - wm;
-    const bool glass = best_h >= o.min_hits &&
-                       best_h >= o.min_window_hit_ratio * (best_h + wm) &&
+    const int lobe_h = lobeHits(best);
+    const int lobe_m = m[(best + bins - 1) % bins] + m[best] + m[(best + 1) % bins];
+    const int oh = total_h - lobe_h, om = total_m - lobe_m;
+    const bool glass = h[best] >= o.min_hits &&
+                       h[best] >= o.min_window_hit_ratio * (h[best] + m[best]) &&
                        om >= o.min_other_misses &&
                        oh <= o.max_other_hit_ratio * (oh + om);
     int label = kEmpty;

@@ -17,12 +17,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct SceneRun {
   eval::CellEvalResult cells;
   glass::MappingStats stats;
 };
 
-Run mapScene(const std::string& name, glass::Method method, std::uint64_t seed = 1) {
+SceneRun mapScene(const std::string& name, glass::Method method, std::uint64_t seed = 1) {
   const sim::Scene scene = sim::loadScene(fs::path(GLASSMAP_SOURCE_DIR) / "maps" / name / "scene.yaml");
   sim::SimOptions so;
   so.seed = seed;
@@ -30,7 +30,7 @@ Run mapScene(const std::string& name, glass::Method method, std::uint64_t seed =
   glass::MappingOptions o;
   o.method = method;
   const glass::MappingResult m = glass::mapLog(sim.log, o);
-  Run r{eval::evaluateCells(scene.map, m.evidence.geometry, m.evidence.label, m.evidence.bins), m.stats};
+  SceneRun r{eval::evaluateCells(scene.map, m.evidence.geometry, m.evidence.label, m.evidence.bins), m.stats};
   std::printf("%-15s %-9s GT %4zu pred %5zu found %5zu FP %5zu exact %4zu disp %4zu miss %4zu | "
               "F1@0 %.3f | P@2 %.3f R@2 %.3f F1@2 %.3f | angle %.1f deg\n",
               name.c_str(), glass::toString(method), r.cells.ground_truth, r.cells.predicted, r.cells.found,
@@ -43,25 +43,25 @@ Run mapScene(const std::string& name, glass::Method method, std::uint64_t seed =
 // Direct reflection, seed 1 (measured F1 at 2 cells): paper-corridor 0.950, glass-corridor 0.984,
 // office-floor 0.893; the paper's Table I reads as about 0.50.
 TEST(GlassMappingE2E, DirectPaperCorridor) {
-  const Run r = mapScene("paper-corridor", glass::Method::Direct);
+  const SceneRun r = mapScene("paper-corridor", glass::Method::Direct);
   EXPECT_GE(r.cells.tolerant.f1, 0.90);
   EXPECT_LE(r.cells.mean_angle_error_deg, 5.0);
 }
 
 TEST(GlassMappingE2E, DirectGlassCorridor) {
-  const Run r = mapScene("glass-corridor", glass::Method::Direct);
+  const SceneRun r = mapScene("glass-corridor", glass::Method::Direct);
   EXPECT_GE(r.cells.tolerant.f1, 0.93);
   EXPECT_LE(r.cells.mean_angle_error_deg, 5.0);
 }
 
 TEST(GlassMappingE2E, DirectOfficeFloor) {
-  const Run r = mapScene("office-floor", glass::Method::Direct);
+  const SceneRun r = mapScene("office-floor", glass::Method::Direct);
   EXPECT_GE(r.cells.tolerant.f1, 0.84);
   EXPECT_LE(r.cells.mean_angle_error_deg, 5.0);
 }
 
 TEST(GlassMappingE2E, DirectNoGlassHasAHandfulOfGlassCells) {
-  const Run r = mapScene("no-glass", glass::Method::Direct);
+  const SceneRun r = mapScene("no-glass", glass::Method::Direct);
   EXPECT_EQ(r.cells.ground_truth, 0U);
   EXPECT_LE(r.cells.predicted, 6U);
   EXPECT_GT(r.stats.occupied_cells, 1000U);
@@ -69,13 +69,13 @@ TEST(GlassMappingE2E, DirectNoGlassHasAHandfulOfGlassCells) {
 
 // The core heuristic is the paper's weakest method; it must still find glass where it is.
 TEST(GlassMappingE2E, HeuristicFindsSomeGlass) {
-  const Run r = mapScene("glass-corridor", glass::Method::Heuristic);
+  const SceneRun r = mapScene("glass-corridor", glass::Method::Heuristic);
   EXPECT_GT(r.cells.found, 0U);
 }
 
 // Another seed: the direct method is not tuned to one noise draw.
 TEST(GlassMappingE2E, DirectGlassCorridorOtherSeed) {
-  const Run r = mapScene("glass-corridor", glass::Method::Direct, 7);
+  const SceneRun r = mapScene("glass-corridor", glass::Method::Direct, 7);
   EXPECT_GE(r.cells.tolerant.f1, 0.90);
 }
 

@@ -12,12 +12,13 @@
 namespace glassmap::glass {
 
 /// Core heuristic (paper 2.5.3): a cell hit from one angle window and missed from the others is
-/// glass at that angle. Windows are the best bin and its two neighbours.
+/// glass at that angle: the bin with the most hits is mostly hit, the bins outside it and its two
+/// neighbours (the lobe) are mostly missed.
 struct HeuristicOptions {
-  int min_hits = 2;                 ///< hits in the window needed for glass
-  double min_window_hit_ratio = 0.3;  ///< hits / (hits + misses) inside the window
-  int min_other_misses = 3;         ///< misses outside the window needed for glass
-  double max_other_hit_ratio = 0.1; ///< hits / (hits + misses) outside the window
+  int min_hits = 2;                 ///< hits in the best bin needed for glass
+  double min_window_hit_ratio = 0.3;  ///< hits / (hits + misses) in the best bin
+  int min_other_misses = 3;         ///< misses outside the lobe needed for glass
+  double max_other_hit_ratio = 0.1; ///< hits / (hits + misses) outside the lobe
   double occupied_hit_ratio = 0.3;  ///< a non-glass candidate with this hit ratio is OCC, else EMP
   double cost_other = 3.0;          ///< cost [nats] given to every label but the chosen one
 };
