@@ -154,6 +154,31 @@ TEST(ParticleFilter, GlobalInitialisationCoversTheFreeSpace) {
   EXPECT_NEAR(right / 5000.0, 0.5, 0.05);
 }
 
+TEST(ParticleFilter, RecoversFromAKidnapping) {
+  const auto model = sensor::makeSensorModel("glass", room());
+  FilterOptions o;
+  o.max_particles = 4000;
+  o.seed = 5;
+  ParticleFilter f(*model, o);
+  Pose2 truth(2.0, 1.5, 0.3);
+  f.initialize(truth, 0.05, 0.02);
+  const auto drive = [&](int steps) {
+    for (int k = 0; k < steps; ++k) {
+      const Pose2 next = truth * Pose2(0.05, 0, 0.03);
+      f.predict(odometryDelta(truth, next));
+      truth = next;
+      f.correct(sensor::makeBeamSet(scanAt(*model, truth), 30));
+    }
+  };
+  drive(10);
+  ASSERT_LT((f.estimate().t - truth.t).norm(), 0.05);
+  truth = Pose2(7.5, 4.8, -2.5);  // carried away without odometry
+  drive(80);
+  // 5.8 m away: only injected random particles (or a global restart) can have found it.
+  EXPECT_LT((f.estimate().t - truth.t).norm(), 0.1);
+  EXPECT_LT(std::abs(angleDiff(f.estimate().theta, truth.theta)), deg2rad(3));
+}
+
 std::vector<Particle> runFilter(int threads) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   const auto model = sensor::makeSensorModel("glass", room());
