@@ -41,7 +41,7 @@ SceneRun mapScene(const std::string& name, glass::Method method, std::uint64_t s
 }
 
 // Direct reflection, seed 1 (measured F1 at 2 cells): paper-corridor 0.950, glass-corridor 0.984,
-// office-floor 0.893; the paper's Table I reads as about 0.50.
+// office-floor 0.893 (no-glass: 3 glass cells); the paper's Table I reads as about 0.50.
 TEST(GlassMappingE2E, DirectPaperCorridor) {
   const SceneRun r = mapScene("paper-corridor", glass::Method::Direct);
   EXPECT_GE(r.cells.tolerant.f1, 0.90);
@@ -67,10 +67,10 @@ TEST(GlassMappingE2E, DirectNoGlassHasAHandfulOfGlassCells) {
   EXPECT_GT(r.stats.occupied_cells, 1000U);
 }
 
-// The core heuristic is the paper's weakest method; it must still find glass where it is.
-TEST(GlassMappingE2E, HeuristicFindsSomeGlass) {
+// The core heuristic, the paper's weakest method (measured F1 at 2 cells 0.701, seed 1).
+TEST(GlassMappingE2E, HeuristicGlassCorridor) {
   const SceneRun r = mapScene("glass-corridor", glass::Method::Heuristic);
-  EXPECT_GT(r.cells.found, 0U);
+  EXPECT_GE(r.cells.tolerant.f1, 0.60);
 }
 
 // Another seed: the direct method is not tuned to one noise draw.

@@ -17,6 +17,8 @@ struct BeamOptions {
                                 ///< max-range readings clear free space up to here, with no hit
   double min_range = 0.05;      ///< readings below this are dropped (sensor dead zone) [m]
   bool clear_no_return = true;  ///< no-return and max-range readings clear free space (to the cap)
+  double no_return_range = 0.0; ///< ...but only up to this range [m]; 0: range_cap (real SICK logs
+                                ///< report glass, black and far surfaces as max range: use ~8 m)
   double miss_margin = 0.1;     ///< a returned beam adds no miss to cells it enters within this
                                 ///< distance before its reading [m]: grazing beams along a thin wall
                                 ///< would otherwise clear the wall's own cells
@@ -51,7 +53,8 @@ void forEachBeam(const LaserScan& scan, const BeamOptions& options, Fn&& fn) {
       beam.range = beam.hit ? static_cast<double>(r) : cap;  // beyond the cap: clear up to it
     } else {
       if (!options.clear_no_return) continue;
-      beam.range = scan.max_range > 0 ? std::min(cap, scan.max_range) : cap;
+      const double clear = options.no_return_range > 0 ? std::min(cap, options.no_return_range) : cap;
+      beam.range = scan.max_range > 0 ? std::min(clear, scan.max_range) : clear;
     }
     beam.from = scan.laser_pose.t;
     beam.to = beam.from + beam.range * Vec2(std::cos(beam.angle), std::sin(beam.angle));
