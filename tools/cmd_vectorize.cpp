@@ -94,6 +94,8 @@ void addMaterialOptions(CLI::App* cmd, const std::string& prefix, vector::Materi
   cmd->add_option("--" + prefix + "-merge-gap", o.merge_gap, prefix + ": merge collinear pieces across gaps up to this [m]")
       ->capture_default_str();
   cmd->add_option("--" + prefix + "-min-length", o.min_length, prefix + ": drop shorter segments [m]")->capture_default_str();
+  cmd->add_option("--" + prefix + "-radius", o.neighbour_radius, prefix + ": region growing neighbour radius [m]")
+      ->capture_default_str();
   cmd->add_option("--" + prefix + "-max-distance", o.max_distance, prefix + ": region growing band half-width [m]")
       ->capture_default_str();
 }
@@ -115,6 +117,8 @@ const cli::Registrar reg(50, [](CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--max-wall-thickness", args->options.max_wall_thickness,
                   "merge parallel wall faces closer than this into one centre line [m]")->capture_default_str();
+  cmd->add_option("--noise-floor", args->options.noise_floor,
+                  "BIC: floor of the rms cell offset from a line [cells]; higher merges more")->capture_default_str();
   addMaterialOptions(cmd, "glass", args->options.glass);
   addMaterialOptions(cmd, "wall", args->options.wall);
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");

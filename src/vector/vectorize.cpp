@@ -23,6 +23,7 @@ MaterialOptions VectorizeOptions::glassDefaults() {
   o.min_elongation = 5.0;
   o.max_gap = 0.30;
   o.merge_gap = 0.30;
+  o.max_bridge = 1.0;
   o.merge_angle_deg = 6.0;
   o.merge_offset = 0.10;
   o.thickness = 0.01;
@@ -40,6 +41,7 @@ MaterialOptions VectorizeOptions::wallDefaults() {
   o.min_elongation = 2.5;
   o.max_gap = 0.50;    // real walls are seen in patches; doors (0.8 m and up) stay open
   o.merge_gap = 0.50;
+  o.max_bridge = 2.0;
   o.merge_angle_deg = 6.0;
   o.merge_offset = 0.10;
   o.thickness = 0.10;
@@ -226,6 +228,26 @@ void forNearbyPairs(const std::vector<Piece>& pieces, double margin, F&& f) {
     }
 }
 
+// True when no stretch of the gap [t, t + len] along p's line was seen free: at most a fifth of its
+// samples have free space on the line and on both sides (a door or an opening is seen free; a wall
+// that was hit sparsely, or not seen, is not).
+bool unseenGap(const Piece& p, double t, double len, const LabelGrid& grid) {
+  const double res = grid.resolution;
+  const Vec2 n = p.normal();
+  const auto isFree = [&](const Vec2& q) {
+    const int x = static_cast<int>(std::floor((q.x() - grid.origin.x()) / res));
+    const int y = static_cast<int>(std::floor((q.y() - grid.origin.y()) / res));
+    return x >= 0 && y >= 0 && x < grid.width && y < grid.height && grid.code(x, y) == kCodeEmpty;
+  };
+  int samples = 0, free = 0;
+  for (double s = 0.5 * res; s < len; s += res) {
+    const Vec2 q = p.c + (t + s) * p.d;
+    ++samples;
+    if (isFree(q) && isFree(q + res * n) && isFree(q - res * n)) ++free;
+  }
+  return free * 5 <= samples;
+}
+
 // Greedy merging of collinear neighbours across gaps up to merge_gap, each merge accepted only when
 // one line explains both cell sets at a lower BIC than two.
 void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material material,
@@ -238,14 +260,14 @@ void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material
       std::size_t i, j;
     };
     std::vector<Candidate> candidates;
-    forNearbyPairs(pieces, 0.5 * mo.merge_gap + mo.merge_offset, [&](std::size_t i, std::size_t j) {
+    forNearbyPairs(pieces, 0.5 * std::max(mo.merge_gap, mo.max_bridge) + mo.merge_offset, [&](std::size_t i, std::size_t j) {
       const Piece& p = pieces[i];
       const Piece& q = pieces[j];
       {
         if (std::abs(p.d.dot(q.d)) < cos_max) return;
         const auto [u0, u1] = projectedExtent(p, q);
         const double gap = std::max(u0 - p.t1, p.t0 - u1);
-        if (gap > mo.merge_gap) return;
+        if (gap > mo.max_bridge || (gap > mo.merge_gap && !unseenGap(p, u0 > p.t1 ? p.t1 : u1, gap, ctx.grid))) return;
         const Vec2 np = p.normal(), nq = q.normal();
         const double off = std::max({std::abs(np.dot(q.a() - p.c)), std::abs(np.dot(q.b() - p.c)),
                                      std::abs(nq.dot(p.a() - q.c)), std::abs(nq.dot(p.b() - q.c))});

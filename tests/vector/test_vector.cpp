@@ -246,3 +246,27 @@ TEST(Vectorize, EvidenceAndSupportAttributes) {
 
 }  // namespace
 }  // namespace glassmap::vector
+
+namespace glassmap::vector {
+namespace {
+
+TEST(Vectorize, WallGapsBridgeWhenUnseenButDoorsStayOpen) {
+  // Two collinear walls 1.2 m apart: past merge_gap (0.5 m), within max_bridge (2 m).
+  const std::vector<MapSegment> walls = {seg(0.5, 2.0, 2.5, 2.0, Material::Wall, 0.1),
+                                         seg(3.7, 2.0, 5.5, 2.0, Material::Wall, 0.1)};
+  LabelGrid door = gridWith(walls);  // the gap was seen free: a door
+  EXPECT_EQ(ofMaterial(vectorize(door).map, Material::Wall).size(), 2u);
+  LabelGrid unseen = gridWith(walls);  // the gap was never observed: one wall hit in patches
+  for (int y = 0; y < unseen.height; ++y)
+    for (int x = 0; x < unseen.width; ++x) {
+      const Vec2 c = unseen.center(x, y);
+      if (c.x() > 2.6 && c.x() < 3.6 && std::abs(c.y() - 2.0) < 0.3)
+        unseen.codes[static_cast<std::size_t>(y) * unseen.width + x] = kCodeUnknown;
+    }
+  const auto merged = ofMaterial(vectorize(unseen).map, Material::Wall);
+  ASSERT_EQ(merged.size(), 1u);
+  EXPECT_TRUE(sameEnds(merged[0], Vec2(0.5, 2.0), Vec2(5.5, 2.0), 0.1));
+}
+
+}  // namespace
+}  // namespace glassmap::vector

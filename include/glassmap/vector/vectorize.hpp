@@ -29,6 +29,7 @@ struct MaterialOptions {
   double min_label_agreement = 0.6; ///< glass: share of cells whose angle label is within max_angle of the fit
   double max_gap = 0.30;          ///< a region is cut where its cells leave a longer gap [m]
   double merge_gap = 0.30;        ///< collinear pieces closer than this may merge [m]
+  double max_bridge = 1.0;        ///< ... and up to this across a gap not seen free (unknown, sparse hits) [m]
   double merge_angle_deg = 6.0;   ///< collinear pieces: direction difference [deg]
   double merge_offset = 0.10;     ///< collinear pieces: endpoint offset from the other's line [m]
   double thickness = 0.10;        ///< thickness written for a segment that has no measured one [m]
