@@ -14,6 +14,10 @@
 #include "glassmap/io/carmen.hpp"
 #include "glassmap/io/labels_raster.hpp"
 #include "glassmap/io/ros_map.hpp"
+#include "glassmap/mrf/refine.hpp"
+#include "glassmap/vector/export.hpp"
+#include "glassmap/vector/from_evidence.hpp"
+#include "glassmap/vector/vectorize.hpp"
 
 namespace glassmap {
 namespace {
@@ -23,10 +27,12 @@ namespace fs = std::filesystem;
 struct MapArgs {
   std::string log;
   std::string out;
-  std::string method = "direct";
+  std::string method = "mrf";
   int laser_id = 0;
   bool quiet = false;
+  bool vectorize = true;
   glass::MappingOptions options;
+  mrf::RefineOptions mrf;
 };
 
 /// ROS map: unknown -1, empty 0, occupied and glass 100 (a navigation stack then avoids glass).
@@ -65,12 +71,17 @@ nlohmann::json optionsJson(const MapArgs& a) {
           {"range_cap", o.beams.range_cap},
           {"min_range", o.beams.min_range},
           {"clear_no_return", o.beams.clear_no_return},
+          {"no_return_range", o.beams.no_return_range},
+          {"miss_margin", o.beams.miss_margin},
           {"direct",
            {{"sigmoid_margin", d.sigmoid_margin}, {"direct_sigma_deg", d.direct_sigma_deg},
             {"direct_peak", d.direct_peak}, {"lobe_floor", d.lobe_floor}, {"p_hit_occ", d.p_hit_occ},
             {"p_hit_emp", d.p_hit_emp}, {"occ_hit_floor", d.occ_hit_floor}, {"prior_glass", d.prior_glass},
             {"prior_occupied", d.prior_occupied}, {"min_glass_hits", d.min_glass_hits},
             {"search_cells", d.search_cells}}},
+          {"mrf",
+           {{"solver", a.mrf.solver}, {"psi", a.mrf.psi}, {"unary_weight", a.mrf.unary_weight},
+            {"tile", a.mrf.tile}, {"sweeps", a.mrf.sweeps}}},
           {"heuristic",
            {{"min_hits", h.min_hits}, {"min_window_hit_ratio", h.min_window_hit_ratio},
             {"min_other_misses", h.min_other_misses}, {"max_other_hit_ratio", h.max_other_hit_ratio},
@@ -86,22 +97,36 @@ void run(MapArgs& args) {
   const LaserLog log = readCarmenLog(args.log, read);
   const double seconds_read = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  // Methods: heuristic and direct are cell classifiers of glass/. The MRF integration adds
-  // "mrf" here: run Direct, then refine result.evidence (labels from the MRF solution).
-  args.options.method = glass::parseMethod(args.method);
+  // Methods: heuristic and direct are cell classifiers of glass/; mrf runs direct and then
+  // refines its evidence with the MRF (paper 2.5.5).
+  const bool use_mrf = args.method == "mrf";
+  args.options.method = glass::parseMethod(use_mrf ? "direct" : args.method);
   auto progress = [&](const char* stage, double f) {
     if (!show_progress) return;
     std::fprintf(stderr, "\r%-8s %5.1f%%", stage, 100.0 * f);
     if (f >= 1.0) std::fputc('\n', stderr);
   };
   glass::MappingResult result = glass::mapLog(log, args.options, progress);
+  mrf::RefineResult refined;
+  if (use_mrf) {
+    if (show_progress) std::cerr << "mrf...\n";
+    refined = mrf::refine(result.evidence, args.mrf);
+    result.stats.glass_cells = result.evidence.countGlass();
+    result.stats.occupied_cells = result.evidence.countOccupied();
+  }
   const glass::CellEvidence& e = result.evidence;
+  vector::VectorizeResult floorplan;
+  if (args.vectorize) {
+    if (show_progress) std::cerr << "vectorize...\n";
+    floorplan = vector::vectorize(vector::toLabelGrid(e));
+  }
 
   const fs::path dir(args.out);
   fs::create_directories(dir);
   writeRosMap(dir / "map.yaml", toRosMap(e));
   writeLabelRaster(dir / "labels.tif", toLabelRaster(e));
   glass::writeLabelsPng(dir / "map.png", e.geometry.width, e.geometry.height, e.label, e.bins);
+  if (args.vectorize) vector::writeFloorplanSet(dir / "floorplan", floorplan.map);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::size_t peak = cli::peakMemoryBytes();
 
@@ -122,7 +147,12 @@ void run(MapArgs& args) {
                       {"bytes_per_observed_cell", st.bytes_per_observed_cell},
                       {"seconds", {{"read", seconds_read}, {"counts", st.seconds_counts},
                                    {"angles", st.seconds_angles}, {"classify", st.seconds_classify},
+                                   {"mrf", refined.seconds}, {"vectorize", floorplan.stats.seconds},
                                    {"total", seconds}}},
+                      {"mrf_changed_cells", refined.changed},
+                      {"mrf_energy", {{"before", refined.energy_before}, {"after", refined.energy_after}}},
+                      {"glass_segments", floorplan.map.count(Material::Glass)},
+                      {"wall_segments", floorplan.map.count(Material::Wall)},
                       {"peak_memory_bytes", peak},
                       {"options", optionsJson(args)}};
   writeAtomically(dir / "stats.json", [&](const fs::path& tmp) {
@@ -140,26 +170,50 @@ void run(MapArgs& args) {
     std::printf("%-22s %zu\n", "cells occupied", st.occupied_cells);
     std::printf("%-22s %zu\n", "glass cells", st.glass_cells);
     std::printf("%-22s %.1f\n", "state bytes/cell", st.bytes_per_observed_cell);
-    std::printf("%-22s %.2f (read %.2f, counts %.2f, angles %.2f, classify %.2f)\n", "seconds", seconds,
-                seconds_read, st.seconds_counts, st.seconds_angles, st.seconds_classify);
+    if (use_mrf) std::printf("%-22s %zu cells changed\n", "mrf", refined.changed);
+    if (args.vectorize)
+      std::printf("%-22s %zu glass, %zu wall\n", "segments", floorplan.map.count(Material::Glass),
+                  floorplan.map.count(Material::Wall));
+    std::printf("%-22s %.2f (read %.2f, counts %.2f, angles %.2f, classify %.2f, mrf %.2f, vectorize %.2f)\n",
+                "seconds", seconds, seconds_read, st.seconds_counts, st.seconds_angles, st.seconds_classify,
+                refined.seconds, floorplan.stats.seconds);
     std::printf("%-22s %.1f MB\n", "peak memory", static_cast<double>(peak) / 1e6);
-    std::printf("%-22s %s/{map.yaml,map.pgm,labels.tif,map.png,stats.json}\n", "wrote", dir.string().c_str());
+    std::printf("%-22s %s/{map.yaml,map.pgm,labels.tif,map.png,stats.json%s}\n", "wrote", dir.string().c_str(),
+                args.vectorize ? ",floorplan.{gpkg,geojson,dxf,svg,png}" : "");
   }
 }
 
 const cli::Registrar reg(40, [](CLI::App& app) {
   auto args = std::make_shared<MapArgs>();
   auto& o = args->options;
-  CLI::App* cmd = app.add_subcommand("map", "Map a laser log into an occupancy grid with glass cells (paper 2.5.3-2.5.4).");
+  CLI::App* cmd = app.add_subcommand(
+      "map",
+      "Map a laser log into an occupancy grid with glass cells (paper 2.5.3-2.5.5) and a vector floorplan:\n"
+      "DIR/map.yaml + map.pgm (ROS, glass as occupied), labels.tif (GeoTIFF codes), map.png, stats.json,\n"
+      "floorplan.{gpkg,geojson,dxf,svg,png}.");
   cmd->add_option("log", args->log, "CARMEN log (.clf/.log, optionally .gz) with SLAM-corrected laser poses")
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", args->out, "output directory")->required();
-  cmd->add_option("--method", args->method, "cell classifier: heuristic | direct")
-      ->check(CLI::IsMember({"heuristic", "direct"}))->capture_default_str();
+  cmd->add_option("--method", args->method,
+                  "heuristic (paper 2.5.3) | direct (direct-reflection classifier, 2.5.4) | mrf (direct, then the MRF, 2.5.5)")
+      ->check(CLI::IsMember({"heuristic", "direct", "mrf"}))->capture_default_str();
+  cmd->add_option("--mrf-solver", args->mrf.solver, "mrf: swap | expansion | icm")
+      ->check(CLI::IsMember({"swap", "expansion", "icm"}))->capture_default_str();
+  cmd->add_option("--mrf-psi", args->mrf.psi,
+                  "mrf: pairwise table: paper (OCC free next to glass) | closed (glass next to OCC costs 0.6 too) | neutral")
+      ->check(CLI::IsMember({"paper", "closed", "neutral"}))->capture_default_str();
+  cmd->add_option("--mrf-weight", args->mrf.unary_weight, "mrf: weight of the -log posteriors against Psi")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_flag("!--no-vector", args->vectorize, "skip the vector floorplan");
   cmd->add_option("--resolution", o.resolution, "cell size [m]")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--angle-bin", o.angle_bin_deg, "incidence-angle bin width [deg], divides 180")->capture_default_str();
   cmd->add_option("--range-cap", o.beams.range_cap, "use beams up to this range; max-range readings clear to it [m]")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--no-return-range", o.beams.no_return_range,
+                  "max-range and no-return readings clear free space up to this range [m]; 0: the range cap")
+      ->capture_default_str();
+  cmd->add_option("--miss-margin", o.beams.miss_margin, "no miss counted this close before a reading [m]")
+      ->capture_default_str();
   cmd->add_option("--laser-id", args->laser_id, "keep only scans of this CARMEN laser (0: all)")->capture_default_str();
   cmd->add_option("--sigmoid-margin", o.direct.sigmoid_margin, "direct: sigmoid margin delta [cells]")->capture_default_str();
   cmd->add_option("--direct-sigma", o.direct.direct_sigma_deg, "direct: direct-reflection lobe sigma [deg]")->capture_default_str();
