@@ -45,6 +45,8 @@ void run(const InfoArgs& args) {
     j["longest_return_m"] = s.longest_return;
     j["max_readings"] = s.max_readings;
     j["no_return_ranges"] = s.stats.no_return_ranges;
+    j["backward_timestamps"] = s.stats.backward_timestamps;
+    j["repeated_timestamps"] = s.stats.repeated_timestamps;
     j["time_first_s"] = s.t_first;
     j["time_last_s"] = s.t_last;
     j["duration_s"] = s.duration();
@@ -112,7 +114,10 @@ void run(const InfoArgs& args) {
     skipped += type + " " + std::to_string(n);
   }
   row("skipped lines", skipped);
-  row("no-return ranges", std::to_string(s.stats.no_return_ranges) + " (non-finite or negative)");
+  row("no-return ranges", std::to_string(s.stats.no_return_ranges) + " (non-finite, negative or > 1e6 m)");
+  if (s.stats.backward_timestamps || s.stats.repeated_timestamps)
+    row("scan timestamps", std::to_string(s.stats.backward_timestamps) + " going backwards, " +
+                               std::to_string(s.stats.repeated_timestamps) + " repeated");
   if (s.stats.filtered_scans) row("filtered scans", std::to_string(s.stats.filtered_scans) + " (--laser)");
   std::snprintf(buf, sizeof buf, "%zu lines in %.2f s", s.stats.lines, seconds);
   row("read", buf);

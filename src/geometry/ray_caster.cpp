@@ -7,6 +7,8 @@
 #include <emmintrin.h>
 #endif
 
+#include "glassmap/core/error.hpp"
+
 namespace glassmap {
 
 namespace {
@@ -74,6 +76,12 @@ RayCaster::RayCaster(const VectorMap& map, RayCasterOptions options) : map_(map)
     segs_[i] = {m.a.x(), m.a.y(), m.b.x() - m.a.x(), m.b.y() - m.a.y()};
     materials_[i] = m.material;
     if (segs_[i].dx == 0.0 && segs_[i].dy == 0.0) continue;
+    // A segment with a NaN or infinite coordinate cannot be hit (the brute force's tests fail on
+    // it too) and would poison the grid's box: it stays out of the cells, as zero-length ones do.
+    if (!m.a.allFinite() || !m.b.allFinite()) {
+      segs_[i] = {0.0, 0.0, 0.0, 0.0};
+      continue;
+    }
     box.extend(m.a);
     box.extend(m.b);
     total_length += m.length();
@@ -86,6 +94,8 @@ RayCaster::RayCaster(const VectorMap& map, RayCasterOptions options) : map_(map)
   const double width = box.max.x() - box.min.x();
   const double height = box.max.y() - box.min.y();
   const double extent = std::max({width, height, 1e-6});
+  if (!std::isfinite(extent))  // coordinates near +-1.8e308: the grid's size overflows
+    throw Error("the map's extent overflows a double: a coordinate is beyond +-1e307 m", {}, 0, "segments");
 
   // Cell size: the mean segment length, which keeps each cell's list short while a ray
   // crosses few cells; bounded so the grid has at most ~4M cells and at least one.
@@ -116,7 +126,21 @@ RayCaster::RayCaster(const VectorMap& map, RayCasterOptions options) : map_(map)
     const int ix0 = index(xa - eps, origin_.x(), nx_), ix1 = index(xb + eps, origin_.x(), nx_);
     const int iy0 = index(ya - eps, origin_.y(), ny_), iy1 = index(yb + eps, origin_.y(), ny_);
     for (int iy = iy0; iy <= iy1; ++iy) {
-      for (int ix = ix0; ix <= ix1; ++ix) {
+      // Only the columns the segment can reach within this row's slab (plus one on each side
+      // against rounding; segmentTouchesBox decides): a long diagonal segment costs O(nx + ny)
+      // box tests, not O(nx * ny) (a 1e9 m segment would otherwise test all ~4M cells).
+      int jx0 = ix0, jx1 = ix1;
+      if (s.dy != 0.0) {
+        const double y0 = origin_.y() + iy * cell - eps, y1 = origin_.y() + (iy + 1) * cell + eps;
+        double t0 = (y0 - s.ay) / s.dy, t1 = (y1 - s.ay) / s.dy;
+        if (t0 > t1) std::swap(t0, t1);
+        t0 = std::clamp(t0, 0.0, 1.0);
+        t1 = std::clamp(t1, 0.0, 1.0);
+        const double xs0 = s.ax + t0 * s.dx, xs1 = s.ax + t1 * s.dx;
+        jx0 = std::max(ix0, index(std::min(xs0, xs1) - eps, origin_.x(), nx_) - 1);
+        jx1 = std::min(ix1, index(std::max(xs0, xs1) + eps, origin_.x(), nx_) + 1);
+      }
+      for (int ix = jx0; ix <= jx1; ++ix) {
         const double x0 = origin_.x() + ix * cell - eps, x1 = origin_.x() + (ix + 1) * cell + eps;
         const double y0 = origin_.y() + iy * cell - eps, y1 = origin_.y() + (iy + 1) * cell + eps;
         if (segmentTouchesBox(s.ax, s.ay, s.dx, s.dy, x0, y0, x1, y1)) {

@@ -49,6 +49,9 @@ struct GzCloser {
 using GzHandle = std::unique_ptr<gzFile_s, GzCloser>;
 
 /// Reads lines from a plain or gzip file (zlib reads plain files transparently).
+/// Longest line the reader accepts [bytes].
+constexpr std::size_t kMaxLineBytes = std::size_t{64} << 20;
+
 class LineReader {
  public:
   explicit LineReader(const fs::path& path) : name_(path.string()) {
@@ -58,7 +61,7 @@ class LineReader {
       throw Error(std::string("cannot open: ") + (err ? std::strerror(err) : "out of memory"), name_);
     }
     gzbuffer(file_.get(), 1 << 17);
-    buffer_.resize(1 << 18);
+    buffer_.grow(1 << 18, 0);
   }
 
   /// Next line without its '\n'; false at the end of the file.
@@ -93,7 +96,14 @@ class LineReader {
     if (pos_ > 0) std::memmove(buffer_.data(), buffer_.data() + pos_, rest);
     pos_ = 0;
     end_ = rest;
-    if (end_ == buffer_.size()) buffer_.resize(buffer_.size() * 2);
+    if (end_ == buffer_.size()) {
+      // Memory stays bounded on a file without line breaks: the longest legal line (1e6 beams
+      // and 1e6 remissions of a few characters each) is well below this.
+      if (buffer_.size() >= kMaxLineBytes)
+        throw Error("line longer than " + std::to_string(kMaxLineBytes >> 20) + " MiB (not a text log?)", name_,
+                    line_number_ + 1);
+      buffer_.grow(buffer_.size() * 2, end_);
+    }
     const int n = gzread(file_.get(), buffer_.data() + end_, static_cast<unsigned>(buffer_.size() - end_));
     if (n < 0) throwZlibError();
     if (n == 0) {
@@ -116,7 +126,21 @@ class LineReader {
 
   std::string name_;
   GzHandle file_;
-  std::vector<char> buffer_;
+  /// Growable byte buffer without zero-filling: only the bytes gzread writes are touched, so
+  /// reading a small file costs a page, not the whole buffer.
+  struct Buffer {
+    std::unique_ptr<char[]> bytes;
+    std::size_t capacity = 0;
+    char* data() { return bytes.get(); }
+    std::size_t size() const { return capacity; }
+    void grow(std::size_t n, std::size_t keep) {  // keeps the first `keep` bytes
+      auto bigger = std::make_unique_for_overwrite<char[]>(n);
+      if (keep) std::memcpy(bigger.get(), bytes.get(), keep);
+      bytes = std::move(bigger);
+      capacity = n;
+    }
+  };
+  Buffer buffer_;
   std::size_t pos_ = 0, end_ = 0, line_number_ = 0;
   bool eof_ = false;
 };
@@ -134,11 +158,17 @@ class Body {
     need(1, field);
     return ctx_.number(tokens_[i_++], field);
   }
+  /// A number that must be finite (poses, timestamps, the sensor configuration).
+  double finite(const char* field) {
+    const double v = num(field);
+    if (!std::isfinite(v)) ctx_.fail(std::string(type_) + " line: value is not finite", field);
+    return v;
+  }
   long integer(const char* field) {
     need(1, field);
     return ctx_.integer(tokens_[i_++], field);
   }
-  /// Reads `n` ranges; turns non-finite and negative ones into kNoReturn.
+  /// Reads `n` ranges; turns non-finite, negative and absurd (> kAbsurdRange) ones into kNoReturn.
   void ranges(long n, std::vector<float>& out, std::size_t& no_returns) {
     out.resize(static_cast<std::size_t>(n));
     std::string field;
@@ -149,7 +179,7 @@ class Body {
         ctx_.number(tokens_[i_], field);  // throws with the field named
       }
       ++i_;
-      if (!std::isfinite(v) || v < 0.0) {
+      if (!std::isfinite(v) || v < 0.0 || v > kAbsurdRange) {
         out[static_cast<std::size_t>(k)] = kNoReturn;
         ++no_returns;
       } else {
@@ -246,7 +276,7 @@ class CarmenParser {
   }
 
   Pose2 pose(Body& b, const char* fx, const char* fy, const char* ft) {
-    const double x = b.num(fx), y = b.num(fy), t = b.num(ft);
+    const double x = b.finite(fx), y = b.finite(fy), t = b.finite(ft);
     return Pose2(x, y, t);
   }
 
@@ -256,6 +286,12 @@ class CarmenParser {
       return;
     }
     ++stats_.scans;
+    if (have_scan_time_) {  // counted, not fatal: mapping uses the poses, not the clock
+      if (scan.timestamp < last_scan_time_) ++stats_.backward_timestamps;
+      if (scan.timestamp == last_scan_time_) ++stats_.repeated_timestamps;
+    }
+    have_scan_time_ = true;
+    last_scan_time_ = scan.timestamp;
     if (cb_.on_scan) cb_.on_scan(std::move(scan));
   }
 
@@ -271,7 +307,7 @@ class CarmenParser {
     s.laser_pose = pose(b, "x", "y", "theta");
     s.odom_pose = pose(b, "odom_x", "odom_y", "odom_theta");
     s.has_odom = true;
-    s.timestamp = b.num("timestamp");
+    s.timestamp = b.finite("timestamp");
     s.start_angle = -0.5 * kPi;  // CARMEN's readlog assumes a SICK centred on the heading
     s.angular_step = carmenGuessAngleIncrement(static_cast<int>(n));
     s.max_range = opt_.flaser_max_range > 0.0 ? opt_.flaser_max_range
@@ -282,10 +318,10 @@ class CarmenParser {
   // Sensor configuration: laser_type start_angle fov angular_res max_range accuracy remission_mode
   void laserConfig(Body& b, LaserScan& s) {
     b.integer("laser_type");
-    s.start_angle = b.num("start_angle");
-    const double fov = b.num("fov");
-    s.angular_step = b.num("angular_resolution");
-    s.max_range = b.num("maximum_range");
+    s.start_angle = b.finite("start_angle");
+    const double fov = b.finite("fov");
+    s.angular_step = b.finite("angular_resolution");
+    s.max_range = b.finite("maximum_range");
     b.num("accuracy");
     b.integer("remission_mode");
     fov_ = fov;
@@ -322,7 +358,7 @@ class CarmenParser {
     b.num("forward_safety_dist");
     b.num("side_safety_dist");
     b.num("turn_axis");
-    s.timestamp = b.num("timestamp");
+    s.timestamp = b.finite("timestamp");
     fillStepFromFov(s, n);
     emit(std::move(s));
   }
@@ -342,7 +378,7 @@ class CarmenParser {
     b.expectRemaining(static_cast<std::size_t>(m) + 1, std::to_string(m) + " remissions and a timestamp",
                       "num_remissions");
     b.skip(m);
-    s.timestamp = b.num("timestamp");
+    s.timestamp = b.finite("timestamp");
     fillStepFromFov(s, n);
     emit(std::move(s));
   }
@@ -353,10 +389,10 @@ class CarmenParser {
     b.expectRemaining(7, "x y theta tv rv accel timestamp", "x");
     StampedPose p;
     p.pose = pose(b, "x", "y", "theta");
-    p.tv = b.num("tv");
-    p.rv = b.num("rv");
+    p.tv = b.finite("tv");
+    p.rv = b.finite("rv");
     b.num("accel");
-    p.timestamp = b.num("timestamp");
+    p.timestamp = b.finite("timestamp");
     ++stats_.odometry;
     if (cb_.on_odometry) cb_.on_odometry(p);
   }
@@ -368,7 +404,7 @@ class CarmenParser {
     StampedPose p;
     p.pose = pose(b, "true_x", "true_y", "true_theta");
     pose(b, "odom_x", "odom_y", "odom_theta");
-    p.timestamp = b.num("timestamp");
+    p.timestamp = b.finite("timestamp");
     ++stats_.true_poses;
     if (cb_.on_true_pose) cb_.on_true_pose(p);
   }
@@ -394,6 +430,8 @@ class CarmenParser {
   double front_max_range_ = kCarmenDefaultMaxRange;
   double rear_max_range_ = kCarmenDefaultMaxRange;
   double fov_ = 0.0;
+  bool have_scan_time_ = false;
+  double last_scan_time_ = 0.0;
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -2,10 +2,12 @@
 
 #include <cpl_conv.h>
 
+#include <charconv>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "glassmap/core/error.hpp"
@@ -132,6 +134,27 @@ void writeDxfHeaderTemplate(const fs::path& path) {
                                group(2, "GLASSMAP"), group(70, "     0")};
   addToTable(g, "APPID", app, 1);
   writeGroups(path, g);
+}
+
+void checkDxfGroupCodes(const fs::path& dxf) {
+  std::ifstream in(dxf, std::ios::binary);
+  if (!in) throw Error("cannot open", dxf.string());
+  std::string line;
+  std::size_t number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (number == 1 && line.starts_with("AutoCAD Binary DXF")) return;
+    if (number % 2 == 0) continue;  // a value line: anything goes
+    std::string_view code(line);
+    while (!code.empty() && (code.back() == '\r' || code.back() == ' ' || code.back() == '\t')) code.remove_suffix(1);
+    while (!code.empty() && (code.front() == ' ' || code.front() == '\t')) code.remove_prefix(1);
+    if (code.empty() && in.peek() == std::char_traits<char>::eof()) return;  // trailing blank line
+    long value = 0;
+    const auto [ptr, ec] = std::from_chars(code.data(), code.data() + code.size(), value);
+    if (ec != std::errc() || ptr != code.data() + code.size() || value < -5 || value > 1071)
+      throw Error("expected a DXF group code (an integer), got '" + std::string(code.substr(0, 40)) + "'",
+                  dxf.string(), number);
+  }
 }
 
 double dxfUnitInMetres(const fs::path& dxf) {

@@ -16,6 +16,12 @@ void writeDxfHeaderTemplate(const std::filesystem::path& path);
 /// ...); 0 when the header declares none or "unitless" (0).
 double dxfUnitInMetres(const std::filesystem::path& dxf);
 
+/// Checks that an ASCII DXF is a sequence of (group code, value) line pairs with integer group
+/// codes in DXF's range (-5..1071); throws Error naming the file and line otherwise. Run before
+/// GDAL's DXF driver, which loops for minutes on some misaligned files (GDAL 3.6, found by
+/// fuzzing). Binary DXF ("AutoCAD Binary DXF" sentinel) is left to GDAL.
+void checkDxfGroupCodes(const std::filesystem::path& dxf);
+
 /// Appends XDATA (application GLASSMAP: material, thickness, pane_angle, support, evidence) to
 /// the i-th line entity of a DXF written by GDAL from map.segments[i].
 void addDxfXData(const std::filesystem::path& dxf, const VectorMap& map);

@@ -165,6 +165,7 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
   GdalErrorCollector errors;
   const std::string file = path.string();
   if (!fs::exists(path)) throw Error("floorplan file does not exist", file);
+  if (lower(path.extension().string()) == ".dxf") io_detail::checkDxfGroupCodes(path);
   ScopedConfig raw_codes("DXF_INCLUDE_RAW_CODE_VALUES", "TRUE");
   GDALDatasetUniquePtr ds(GDALDataset::Open(file.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
   if (!ds) throw Error("cannot open as a vector floorplan" + errors.suffix(), file);
@@ -226,7 +227,12 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
       if (support_idx >= 0 && f->IsFieldSetAndNotNull(support_idx))
         a.support = static_cast<std::uint32_t>(std::max<GIntBig>(0, f->GetFieldAsInteger64(support_idx)));
       if (evidence_idx >= 0 && f->IsFieldSetAndNotNull(evidence_idx)) a.evidence = f->GetFieldAsDouble(evidence_idx);
+      const std::size_t first = map.segments.size();
       addSegments(f->GetGeometryRef(), to_m, a, map, skipped);
+      for (std::size_t i = first; i < map.segments.size(); ++i) {  // e.g. 1e400 in GeoJSON reads as inf
+        if (!map.segments[i].a.allFinite() || !map.segments[i].b.allFinite())
+          throw Error("non-finite coordinate (after scaling to metres)", file, 0, where + " geometry");
+      }
     }
   }
   return map;
@@ -311,6 +317,7 @@ void writeShapefile(const fs::path& target, const VectorMap& map) {
   std::error_code ec;
   fs::create_directory(dir, ec);
   if (ec) throw Error("cannot create temporary folder: " + ec.message(), dir.string());
+  const LiveTemporary live_dir(dir, /*is_directory=*/true);  // removed by a SIGINT/SIGTERM handler too
   try {
     writeWithGdal(dir / target.filename(), map, FloorplanFormat::Shapefile, {});
     std::vector<fs::path> files;
@@ -351,6 +358,7 @@ void writeFloorplan(const fs::path& path, const VectorMap& map) {
           fs::remove(p, ec);
         }
       } remove_header{header};
+      const LiveTemporary live_header(header);
       io_detail::writeDxfHeaderTemplate(header);
       writeAtomically(path, [&](const fs::path& tmp) {
         writeWithGdal(tmp, map, format, header);

@@ -100,6 +100,10 @@ LabelRaster readLabelRaster(const std::filesystem::path& tif) {
   r.resolution = gt[1];
   const bool north_up = gt[5] < 0.0;
   r.origin = Vec2(gt[0], north_up ? gt[3] + r.height * gt[5] : gt[3]);
+  // A forged header must not make us allocate gigabytes: 1 G cells is a 50 km square at 5 cm.
+  constexpr std::size_t kMaxCells = std::size_t{1} << 30;
+  if (r.width <= 0 || r.height <= 0 || static_cast<std::size_t>(r.width) * r.height > kMaxCells)
+    throw Error("implausible raster size " + std::to_string(r.width) + " x " + std::to_string(r.height), tif.string());
   r.codes.resize(static_cast<std::size_t>(r.width) * r.height);
   for (int row = 0; row < r.height; ++row) {
     const int grid_row = north_up ? r.height - 1 - row : row;

@@ -27,6 +27,9 @@ struct GrayImage {
   std::vector<bool> transparent;  ///< alpha < 1 (only images with an alpha channel)
 };
 
+/// Largest map image read through GDAL (1 G pixels: a 50 km square at 5 cm).
+constexpr std::size_t kMaxImagePixels = std::size_t{1} << 30;
+
 /// Reads a PGM (P5 binary or P2 ASCII, maxval up to 65535).
 GrayImage readPgm(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -68,6 +71,18 @@ GrayImage readPgm(const fs::path& path) {
   img.width = static_cast<int>(w);
   img.height = static_cast<int>(h);
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  // The header's size must fit the data that follows before anything is allocated: a forged
+  // header must not make us reserve gigabytes (P5: 1 or 2 bytes per pixel, P2: >= 2 characters).
+  const std::streamoff here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff end = in.tellg();
+  in.seekg(here);
+  const std::size_t avail = here >= 0 && end >= here ? static_cast<std::size_t>(end - here) : 0;
+  const std::size_t need = magic == "P5" ? n * (maxval > 255 ? 2 : 1) : 2 * n - 1;
+  if (need > avail)
+    throw Error("PGM pixel data is truncated: " + std::to_string(w) + " x " + std::to_string(h) +
+                    " pixels need " + std::to_string(need) + " bytes, the file has " + std::to_string(avail),
+                name);
   img.raw.resize(n);
   if (magic == "P5") {
     const std::size_t bytes = maxval > 255 ? 2 : 1;
@@ -116,6 +131,10 @@ GrayImage readRasterWithGdal(const fs::path& path) {
   const int colour_bands = bands >= 3 ? 3 : 1;
   const bool has_alpha = bands == 2 || bands == 4;
   const std::size_t n = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
+  if (img.width <= 0 || img.height <= 0 || n > kMaxImagePixels)
+    throw Error("implausible map image size " + std::to_string(img.width) + " x " + std::to_string(img.height) +
+                    " (at most " + std::to_string(kMaxImagePixels) + " pixels)",
+                path.string());
   std::vector<std::vector<unsigned char>> px(static_cast<std::size_t>(bands), std::vector<unsigned char>(n));
   for (int b = 0; b < bands; ++b) {
     if (GDALRasterIO(GDALGetRasterBand(ds, b + 1), GF_Read, 0, 0, img.width, img.height,
@@ -167,9 +186,17 @@ OccupancyGridMap readRosMap(const fs::path& yaml_path) {
       throw Error("expected a number", yname, line(n), key);
     }
   };
+  auto asString = [&](const YAML::Node& n, const char* key) {
+    try {
+      return n.as<std::string>();
+    } catch (const YAML::Exception&) {  // a sequence or a map where a scalar belongs
+      throw Error("expected a string", yname, line(n), key);
+    }
+  };
   OccupancyGridMap map;
   const YAML::Node image_node = need("image");
-  const std::string image_name = image_node.as<std::string>();
+  const std::string image_name = asString(image_node, "image");
+  if (image_name.empty()) throw Error("empty image name", yname, line(image_node), "image");
   map.resolution = asDouble(need("resolution"), "resolution");
   if (!(map.resolution > 0.0)) throw Error("must be positive", yname, line(doc["resolution"]), "resolution");
   const YAML::Node origin = need("origin");
@@ -192,7 +219,7 @@ OccupancyGridMap readRosMap(const fs::path& yaml_path) {
   const double free_thresh = doc["free_thresh"] ? asDouble(doc["free_thresh"], "free_thresh") : 0.196;
   MapMode mode = MapMode::Trinary;
   if (const YAML::Node n = doc["mode"]) {
-    const std::string m = n.as<std::string>();
+    const std::string m = asString(n, "mode");
     if (m == "trinary") mode = MapMode::Trinary;
     else if (m == "scale") mode = MapMode::Scale;
     else if (m == "raw") mode = MapMode::Raw;

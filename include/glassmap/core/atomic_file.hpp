@@ -9,10 +9,36 @@ namespace glassmap {
 /// Calls write(tmp) with a temporary path next to `target`, then renames tmp over target.
 /// If write throws, the temporary is removed, target is left as it was, and the error rethrown.
 /// The temporary keeps target's extension so that format-sniffing writers (GDAL) still work.
+/// While it exists the temporary is registered as a LiveTemporary (see installSignalCleanup).
 void writeAtomically(const std::filesystem::path& target,
                      const std::function<void(const std::filesystem::path& tmp)>& write);
 
 /// Temporary sibling path for target: "<dir>/.<stem>.tmp<pid>-<n><ext>".
 std::filesystem::path temporarySibling(const std::filesystem::path& target);
+
+/// Registers a temporary file (or a folder of temporaries) for removal by the signal handler of
+/// installSignalCleanup() for as long as this object lives; the owner still removes it normally.
+/// At most 64 live registrations are tracked at once (more are not protected: the count is small
+/// because a command writes few files at a time). A folder is emptied (one level) and removed.
+class LiveTemporary {
+ public:
+  explicit LiveTemporary(const std::filesystem::path& path, bool is_directory = false);
+  ~LiveTemporary();
+  LiveTemporary(const LiveTemporary&) = delete;
+  LiveTemporary& operator=(const LiveTemporary&) = delete;
+
+ private:
+  int slot_ = -1;
+};
+
+/// Installs SIGINT, SIGTERM and SIGHUP handlers (not over a signal the process ignores) that
+/// remove every live temporary (files, SQLite's -journal/-wal/-shm sidecars, registered
+/// folders) with async-signal-safe calls, then re-raise the signal with its default action, so
+/// the process still dies of it and an interrupted write leaves the old target or none. Call
+/// once from main(); idempotent.
+void installSignalCleanup();
+
+/// Removes every live temporary now, as the signal handler does (async-signal-safe).
+void removeLiveTemporaries() noexcept;
 
 }  // namespace glassmap

@@ -12,8 +12,11 @@
 
 namespace glassmap {
 
-/// Range value meaning "no return" (non-finite or negative readings become this).
+/// Range value meaning "no return" (non-finite, negative or absurd readings become this).
 inline constexpr float kNoReturn = std::numeric_limits<float>::infinity();
+/// Readings beyond this are absurd for any laser (and beyond a float's range, undefined to
+/// convert): readers turn them into kNoReturn and count them as no-returns [m].
+inline constexpr double kAbsurdRange = 1e6;
 
 /// One 2D laser scan. Beam i points at start_angle + i * angular_step in the laser frame.
 struct LaserScan {
@@ -56,7 +59,9 @@ struct LogReadStats {
   std::size_t skipped_lines = 0;    ///< lines of unknown type, skipped
   std::map<std::string, std::size_t> skipped_by_type;  ///< unknown line types and their counts
   std::size_t comment_lines = 0;    ///< '#' and empty lines
-  std::size_t no_return_ranges = 0; ///< non-finite or negative ranges turned into kNoReturn
+  std::size_t no_return_ranges = 0; ///< non-finite, negative or absurd ranges turned into kNoReturn
+  std::size_t backward_timestamps = 0;  ///< kept scans whose timestamp is below the previous scan's
+  std::size_t repeated_timestamps = 0;  ///< kept scans whose timestamp equals the previous scan's
   std::size_t odometry = 0;         ///< ODOM records
   std::size_t true_poses = 0;       ///< TRUEPOS records
   std::size_t params = 0;           ///< PARAM records

@@ -1,0 +1,742 @@
+// Reliability (issue 9): hostile inputs give a clear Error or a counted skip, never a crash, hang,
+// absurd allocation or silent garbage; an interrupted write leaves the old file or none; the same
+// inputs and seed give byte-identical outputs with one thread and with several.
+#include <fcntl.h>
+#include <gdal.h>
+#include <sched.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "glassmap/core/angles.hpp"
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
+#include "glassmap/geometry/ray_caster.hpp"
+#include "glassmap/io/carmen.hpp"
+#include "glassmap/io/floorplan.hpp"
+#include "glassmap/io/labels_raster.hpp"
+#include "glassmap/io/ros_map.hpp"
+#include "glassmap/io/tum.hpp"
+
+namespace glassmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
+/// A fresh folder under the temp dir, removed at scope exit.
+class TempDir {
+ public:
+  TempDir() {
+    static std::atomic<int> counter{0};
+    path_ = fs::temp_directory_path() /
+            ("glassmap-reliability-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+  const fs::path& path() const { return path_; }
+  fs::path write(const std::string& name, const std::string& text) const {
+    const fs::path p = path_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+
+ private:
+  fs::path path_;
+};
+
+std::string readBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// Names in `dir` that look like writeAtomically's temporaries (".<stem>.tmp<pid>-<n><ext>").
+std::vector<std::string> temporariesIn(const fs::path& dir) {
+  std::vector<std::string> found;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.starts_with(".") && name.find(".tmp") != std::string::npos) found.push_back(name);
+  }
+  return found;
+}
+
+/// Expects `f` to throw an Error whose text holds `part`.
+template <class F>
+void expectErrorWith(F&& f, const std::string& part) {
+  try {
+    f();
+    ADD_FAILURE() << "no Error; expected one mentioning '" << part << "'";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+  }
+}
+
+/// A FLASER line with the given range tokens (count as declared), pose (1, 2, 0), time t.
+std::string flaser(const std::vector<std::string>& ranges, double t, long declared = -1) {
+  std::string line = "FLASER " + std::to_string(declared < 0 ? static_cast<long>(ranges.size()) : declared);
+  for (const auto& r : ranges) line += " " + r;
+  char tail[128];
+  std::snprintf(tail, sizeof tail, " 1 2 0 1 2 0 %.6f host %.6f\n", t, t);
+  return line + tail;
+}
+
+// ---------------------------------------------------------------------------------------------
+// CARMEN logs
+
+TEST(HostileLog, NonFiniteNegativeAndAbsurdRangesBecomeCountedNoReturns) {
+  TempDir dir;
+  const auto log = dir.write("a.clf", flaser({"1.5", "nan", "inf", "-inf", "-2", "1e30", "1e300", "2.5"}, 1.0));
+  const LaserLog l = readCarmenLog(log);
+  ASSERT_EQ(l.scans.size(), 1u);
+  const auto& r = l.scans[0].ranges;
+  ASSERT_EQ(r.size(), 8u);
+  EXPECT_FLOAT_EQ(r[0], 1.5f);
+  EXPECT_FLOAT_EQ(r[7], 2.5f);
+  for (int i = 1; i <= 6; ++i) {
+    EXPECT_EQ(r[static_cast<std::size_t>(i)], kNoReturn) << "beam " << i;
+    EXPECT_FALSE(l.scans[0].isReturn(static_cast<std::size_t>(i)));
+  }
+  EXPECT_EQ(l.stats.no_return_ranges, 6u);
+}
+
+TEST(HostileLog, NonFinitePoseOrTimestampIsAnErrorNamingTheField) {
+  TempDir dir;
+  const auto bad_pose = dir.write("p.clf", "FLASER 2 1 1 nan 2 0 1 2 0 5 host 5\n");
+  try {
+    readCarmenLog(bad_pose);
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.line(), 1u);
+    EXPECT_EQ(e.field(), "x");
+  }
+  const auto bad_time = dir.write("t.clf", "ODOM 1 2 0 0 0 0 inf host 5\n");
+  try {
+    CarmenReadOptions opt;
+    opt.require_scans = false;
+    readCarmenLog(bad_time, opt);
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "timestamp");
+  }
+  const auto bad_range_cfg =
+      dir.write("c.clf", "ROBOTLASER1 0 -1.57 3.14 0.0174 nan 0.01 0 2 1 1 1 2 0 1 2 0 0 0 0 0 0 7 host 7\n");
+  try {
+    readCarmenLog(bad_range_cfg);
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "maximum_range");
+  }
+}
+
+TEST(HostileLog, BeamCountsThatDisagreeWithTheHeaderAreErrors) {
+  TempDir dir;
+  const std::vector<std::string> four(4, "1.0");
+  for (long declared : {3L, 5L, 100L}) {
+    SCOPED_TRACE(declared);
+    const auto p = dir.write("n" + std::to_string(declared) + ".clf", "# c\n" + flaser(four, 1.0, declared));
+    try {
+      readCarmenLog(p);
+      ADD_FAILURE();
+    } catch (const Error& e) {
+      EXPECT_EQ(e.line(), 2u);
+      EXPECT_EQ(e.field(), "num_readings");
+    }
+  }
+  // Absurd or negative counts are refused before anything is allocated.
+  expectErrorWith([&] { readCarmenLog(dir.write("huge.clf", flaser(four, 1.0, 4'000'000'000L))); },
+                  "implausible count");
+  expectErrorWith([&] { readCarmenLog(dir.write("neg.clf", "FLASER -4 1 1 1 1 1 2 0 1 2 0 5 host 5\n")); },
+                  "implausible count");
+  // ROBOTLASER1 declaring 3 beams but carrying 2 (and no remission block).
+  const auto rl = dir.write("rl.clf", "ROBOTLASER1 0 -1.57 3.14 0.0174 80 0.01 0 3 1 1 1 2 0 1 2 0 0 0 0 0 0 7 host 7\n");
+  EXPECT_THROW(readCarmenLog(rl), Error);
+}
+
+TEST(HostileLog, ZeroLengthScansAreReadAsEmptyScans) {
+  TempDir dir;
+  const auto p = dir.write("z.clf", flaser({}, 1.0) + flaser({"1", "2"}, 2.0) +
+                                        "RAWLASER1 0 -1.57 3.14 0.0174 80 0.01 0 0 0 3 host 3\n");
+  const LaserLog l = readCarmenLog(p);
+  ASSERT_EQ(l.scans.size(), 3u);
+  EXPECT_TRUE(l.scans[0].ranges.empty());
+  EXPECT_EQ(l.scans[0].fieldOfView(), 0.0);
+  EXPECT_TRUE(l.scans[2].ranges.empty());
+  EXPECT_TRUE(std::isfinite(l.scans[0].angular_step));
+}
+
+TEST(HostileLog, TimestampsGoingBackwardsOrRepeatingAreCounted) {
+  TempDir dir;
+  const std::vector<std::string> r = {"1", "2"};
+  const auto p = dir.write("t.clf", flaser(r, 5.0) + flaser(r, 5.0) + flaser(r, 4.0) + flaser(r, 6.0) +
+                                        flaser(r, 6.0) + flaser(r, 1.0));
+  const LaserLog l = readCarmenLog(p);
+  ASSERT_EQ(l.scans.size(), 6u);  // kept in file order: mapping uses the poses, not the clock
+  EXPECT_EQ(l.stats.backward_timestamps, 2u);
+  EXPECT_EQ(l.stats.repeated_timestamps, 2u);
+  std::size_t streamed = 0;
+  CarmenCallbacks cb;
+  cb.on_scan = [&](LaserScan&&) { ++streamed; };
+  const LogReadStats s = forEachCarmenRecord(p, cb);
+  EXPECT_EQ(streamed, 6u);
+  EXPECT_EQ(s.backward_timestamps, 2u);
+  EXPECT_EQ(s.repeated_timestamps, 2u);
+}
+
+TEST(HostileLog, AFileWithoutLineBreaksIsRefusedInBoundedMemory) {
+  TempDir dir;
+  const fs::path p = dir / "one-line.clf";
+  {
+    std::ofstream out(p, std::ios::binary);
+    const std::string block(1 << 20, 'x');
+    for (int i = 0; i < 80; ++i) out << block;  // 80 MiB, no '\n'
+  }
+  expectErrorWith([&] { forEachCarmenRecord(p, {}); }, "line longer than 64 MiB");
+}
+
+/// Current resident set size of this process [KiB].
+long rssKib() {
+  long pages_total = 0, pages_resident = 0;
+  std::FILE* f = std::fopen("/proc/self/statm", "r");
+  if (!f) return 0;
+  if (std::fscanf(f, "%ld %ld", &pages_total, &pages_resident) != 2) pages_resident = 0;
+  std::fclose(f);
+  return pages_resident * (::sysconf(_SC_PAGESIZE) / 1024);
+}
+
+// A log gigabytes long, streamed: a writer thread generates it into a FIFO (nothing touches the
+// disk), forEachCarmenRecord reads it, and the resident set (sampled every 1000 scans) must not
+// grow with the log. 1 GiB in a
+// plain build, 128 MiB under the sanitizers (which parse ~10x slower); the size is reported.
+TEST(HostileLog, AGigabyteLogStreamsInBoundedMemory) {
+  TempDir dir;
+  const fs::path fifo = dir / "big.clf";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::size_t target_bytes = kSanitized ? (std::size_t{128} << 20) : (std::size_t{1} << 30);
+  // One block of 64 scans of 361 beams with ODOM lines, repeated with increasing time.
+  std::string block;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> range(0.5, 30.0);
+  for (int k = 0; k < 64; ++k) {
+    char buf[64];
+    block += "FLASER 361";
+    for (int i = 0; i < 361; ++i) {
+      std::snprintf(buf, sizeof buf, " %.2f", range(rng));
+      block += buf;
+    }
+    block += " 1.5 2.5 0.1 1.5 2.5 0.1 100.0 host 100.0\nODOM 1.5 2.5 0.1 0 0 0 100.0 host 100.0\n";
+  }
+  const std::size_t blocks = target_bytes / block.size() + 1;
+  std::thread writer([&] {
+    const int fd = ::open(fifo.c_str(), O_WRONLY);
+    if (fd < 0) return;
+    for (std::size_t b = 0; b < blocks; ++b) {
+      for (std::size_t off = 0; off < block.size();) {
+        const ssize_t n = ::write(fd, block.data() + off, block.size() - off);
+        if (n <= 0) {
+          ::close(fd);
+          return;
+        }
+        off += static_cast<std::size_t>(n);
+      }
+    }
+    ::close(fd);
+  });
+  const long rss_before = rssKib();
+  long rss_max = rss_before;
+  std::size_t scans = 0, beams = 0, odometry = 0;
+  LogReadStats stats;
+  try {
+    CarmenCallbacks cb;
+    cb.on_scan = [&](LaserScan&& s) {
+      ++scans;
+      beams += s.ranges.size();
+      if (scans % 1000 == 0) rss_max = std::max(rss_max, rssKib());
+    };
+    cb.on_odometry = [&](const StampedPose&) { ++odometry; };
+    stats = forEachCarmenRecord(fifo, cb);
+  } catch (...) {
+    writer.join();
+    throw;
+  }
+  writer.join();
+  const long growth_kib = rss_max - rss_before;
+  EXPECT_EQ(scans, blocks * 64);
+  EXPECT_EQ(odometry, blocks * 64);
+  EXPECT_EQ(beams, scans * 361);
+  EXPECT_EQ(stats.repeated_timestamps, scans - 1);
+  // Bounded: the line buffer, the scan being handed over and zlib's buffers; far below the log.
+  EXPECT_LT(growth_kib, 32 * 1024) << "RSS grew by " << growth_kib << " KiB";
+  std::printf("[ streamed %.0f MiB (%zu scans) through a FIFO; RSS growth at most %ld KiB ]\n",
+              static_cast<double>(blocks * block.size()) / (1 << 20), scans, growth_kib);
+}
+
+// ---------------------------------------------------------------------------------------------
+// TUM trajectories
+
+TEST(HostileTum, NonFiniteValuesAndShortLinesAreErrors) {
+  TempDir dir;
+  expectErrorWith([&] { readTum(dir.write("a.tum", "1 nan 0 0 0 0 0 1\n")); }, "not finite");
+  expectErrorWith([&] { readTum(dir.write("b.tum", "1 1e400 0 0 0 0 0 1\n")); }, "");
+  EXPECT_THROW(readTum(dir.write("c.tum", "1 2 3\n")), Error);
+  EXPECT_THROW(readTum(dir.write("d.tum", "1 0 0 0 0 0 0 0\n")), Error);  // zero quaternion
+}
+
+// ---------------------------------------------------------------------------------------------
+// Floorplans and the ray caster built on them
+
+std::string geojsonLines(const std::vector<std::array<double, 4>>& segs) {
+  std::string s = R"({"type":"FeatureCollection","features":[)";
+  char buf[256];
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    std::snprintf(buf, sizeof buf,
+                  R"(%s{"type":"Feature","properties":{"material":"%s"},"geometry":{"type":"LineString","coordinates":[[%.17g,%.17g],[%.17g,%.17g]]}})",
+                  i ? "," : "", i % 2 ? "glass" : "wall", segs[i][0], segs[i][1], segs[i][2], segs[i][3]);
+    s += buf;
+  }
+  return s + "]}";
+}
+
+TEST(HostileFloorplan, ZeroLengthDuplicateOverlappingAndEnormousSegments) {
+  TempDir dir;
+  const std::vector<std::array<double, 4>> segs = {
+      {0, 0, 10, 0},      {0, 0, 10, 0},    // duplicate
+      {2, 0, 8, 0},       {5, 0, 12, 0},    // overlapping the first, collinear
+      {3, 3, 3, 3},                         // zero length
+      {0, 5, 10, 5},      {10, 5, 0, 5},    // the same pane drawn both ways
+      {-1e9, -1e9, 1e9, 1e9},               // enormous diagonal (2.8e9 m)
+      {-1e9, 7, 1e9, 7},                    // enormous horizontal
+  };
+  const auto path = dir.write("hostile.geojson", geojsonLines(segs));
+  const VectorMap map = readFloorplan(path);
+  ASSERT_GE(map.segments.size(), 8u);  // a reader may drop the zero-length one, never invent
+  ASSERT_LE(map.segments.size(), segs.size());
+  const RayCaster caster(map);
+  // The index stays small however large the box: at most 2048 cells along the longer side.
+  EXPECT_LE(static_cast<double>(caster.cellsX()) * caster.cellsY(), 2049.0 * 2049.0);
+  EXPECT_LT(caster.cellEntries(), 100'000u);
+  // The grid walk agrees with testing every segment, including through the huge cells.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> pos(-20.0, 20.0), ang(-3.2, 3.2);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec2 o(pos(rng), pos(rng));
+    const double a = ang(rng);
+    const RayHit g = caster.cast(o, a, 1e10), b = caster.castBruteForce(o, a, 1e10);
+    ASSERT_EQ(g.segment, b.segment) << "ray " << i;
+    ASSERT_EQ(g.range, b.range) << "ray " << i;
+  }
+}
+
+MapSegment seg(const Vec2& a, const Vec2& b, Material m) {
+  MapSegment s;
+  s.a = a;
+  s.b = b;
+  s.material = m;
+  return s;
+}
+
+// Many enormous diagonal segments: building the index used to test every cell of each segment's
+// bounding box (4M boxes per segment, hours for a few thousand); it must stay proportional to the
+// cells the segments cross.
+TEST(HostileFloorplan, ThousandsOfEnormousDiagonalSegmentsBuildQuickly) {
+  VectorMap map;
+  const int n = kSanitized ? 500 : 3000;
+  for (int i = 0; i < n; ++i) {
+    const double d = 1e6 * i;
+    map.segments.push_back(seg(Vec2(-1e9 + d, -1e9), Vec2(1e9 + d, 1e9), Material::Wall));
+  }
+  // A 1 m cell request is clamped to extent / 2048: the finest grid the index allows (~4M cells).
+  RayCasterOptions fine;
+  fine.cell_size = 1.0;
+  const RayCaster caster(map, fine);
+  EXPECT_GE(caster.cellsX(), 2048);
+  EXPECT_LE(static_cast<double>(caster.cellsX()) * caster.cellsY(), 2049.0 * 2049.0);
+  // Each diagonal crosses ~2 * 2048 cells (+ eps-widened neighbours), far from 4M.
+  EXPECT_LT(caster.cellEntries(), static_cast<std::size_t>(n) * 4 * 2100);
+  const RayHit h = caster.cast(Vec2(0.0, 5.0), 0.0, 1e10);
+  const RayHit b = caster.castBruteForce(Vec2(0.0, 5.0), 0.0, 1e10);
+  EXPECT_EQ(h.segment, b.segment);
+  EXPECT_TRUE(h.hit());
+}
+
+TEST(HostileFloorplan, NonFiniteOrOverflowingCoordinatesInAVectorMap) {
+  VectorMap map;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  map.segments.push_back(seg(Vec2(0, 0), Vec2(10, 0), Material::Wall));
+  map.segments.push_back(seg(Vec2(nan, 0), Vec2(10, 5), Material::Glass));
+  map.segments.push_back(seg(Vec2(0, inf), Vec2(10, 5), Material::Glass));
+  const RayCaster caster(map);  // the bad segments are never hit, the good one is
+  const RayHit h = caster.cast(Vec2(5, 3), -kPi / 2, 100.0);
+  EXPECT_EQ(h.segment, 0);
+  EXPECT_DOUBLE_EQ(h.range, 3.0);
+  // Finite coordinates whose extent overflows a double: a clear error, not a NaN-sized grid.
+  VectorMap wide;
+  wide.segments.push_back(seg(Vec2(-1.7e308, 0), Vec2(1.7e308, 1), Material::Wall));
+  expectErrorWith([&] { RayCaster c(wide); }, "overflows");
+  // The floorplan reader refuses non-finite coordinates with a clear error.
+  TempDir dir;
+  const auto p = dir.write("inf.geojson", R"({"type":"FeatureCollection","features":[{"type":"Feature",)"
+                                          R"("properties":{},"geometry":{"type":"LineString",)"
+                                          R"("coordinates":[[0,0],[1e400,0]]}}]})");
+  EXPECT_THROW(readFloorplan(p), Error);
+}
+
+// ---------------------------------------------------------------------------------------------
+// ROS maps and label rasters
+
+TEST(HostileRosMap, MissingImageIsAnErrorNamingIt) {
+  TempDir dir;
+  const auto yaml = dir.write("map.yaml", "image: nowhere.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
+                                          "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  expectErrorWith([&] { readRosMap(yaml); }, "nowhere.pgm");
+}
+
+TEST(HostileRosMap, ForgedImageSizeIsRefusedBeforeAllocating) {
+  TempDir dir;
+  const auto yaml = dir.write("map.yaml", "image: map.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
+                                          "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  // 100000 x 100000 declared (10 GB), 4 bytes present.
+  dir.write("map.pgm", std::string("P5\n100000 100000\n255\n") + std::string(4, '\0'));
+  expectErrorWith([&] { readRosMap(yaml); }, "truncated");
+  dir.write("map.pgm", "P2\n99999 99999\n255\n0 0 0\n");
+  expectErrorWith([&] { readRosMap(yaml); }, "truncated");
+}
+
+/// Writes a GeoTIFF with GDAL: `bands` bands of `type`, a square-pixel geotransform.
+void writeGeoTiff(const fs::path& p, int bands, GDALDataType type, bool rotated = false) {
+  GDALAllRegister();
+  GDALDriverH drv = GDALGetDriverByName("GTiff");
+  GDALDatasetH ds = GDALCreate(drv, p.c_str(), 4, 3, bands, type, nullptr);
+  ASSERT_NE(ds, nullptr);
+  double gt[6] = {0.0, 0.05, rotated ? 0.01 : 0.0, 0.15, 0.0, -0.05};
+  GDALSetGeoTransform(ds, gt);
+  GDALClose(ds);
+}
+
+TEST(HostileLabels, GeoTiffOfTheWrongTypeIsAClearError) {
+  TempDir dir;
+  writeGeoTiff(dir / "float.tif", 1, GDT_Float32);
+  expectErrorWith([&] { readLabelRaster(dir / "float.tif"); }, "Byte");
+  writeGeoTiff(dir / "rgb.tif", 3, GDT_Byte);
+  expectErrorWith([&] { readLabelRaster(dir / "rgb.tif"); }, "single-band");
+  writeGeoTiff(dir / "rot.tif", 1, GDT_Byte, /*rotated=*/true);
+  expectErrorWith([&] { readLabelRaster(dir / "rot.tif"); }, "unrotated");
+  dir.write("text.tif", "not a tiff at all\n");
+  EXPECT_THROW(readLabelRaster(dir / "text.tif"), Error);
+  expectErrorWith([&] { readLabelRaster(dir / "missing.tif"); }, "missing.tif");
+  // The right type still reads.
+  writeGeoTiff(dir / "ok.tif", 1, GDT_Byte);
+  const LabelRaster r = readLabelRaster(dir / "ok.tif");
+  EXPECT_EQ(r.width, 4);
+  EXPECT_EQ(r.height, 3);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Nothing half-written
+
+/// Runs `body` in a forked child and returns its wait status.
+template <class F>
+int inChild(F&& body) {
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    body();
+    ::_exit(0);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return status;
+}
+
+TEST(Interrupted, SignalDuringAnAtomicWriteLeavesTheOldFileAndNoTemporary) {
+  for (const int sig : {SIGTERM, SIGINT, SIGHUP}) {
+    SCOPED_TRACE(sig);
+    TempDir dir;
+    const fs::path target = dir / "out.clf";
+    std::ofstream(target) << "old contents\n";
+    const int status = inChild([&] {
+      installSignalCleanup();
+      writeAtomically(target, [&](const fs::path& tmp) {
+        std::ofstream out(tmp);
+        out << "half of the new contents";
+        out.flush();
+        std::ofstream(dir / "tmp-name") << tmp.string();
+        ::raise(sig);  // delivered now: the handler removes tmp, then the process dies of sig
+        out << " and the rest\n";
+      });
+    });
+    ASSERT_TRUE(WIFSIGNALED(status)) << "child exited normally: the signal was swallowed";
+    EXPECT_EQ(WTERMSIG(status), sig);
+    EXPECT_EQ(readBytes(target), "old contents\n");
+    EXPECT_FALSE(fs::exists(readBytes(dir / "tmp-name")));
+    EXPECT_TRUE(temporariesIn(dir.path()).empty());
+  }
+}
+
+TEST(Interrupted, SignalRemovesARegisteredTemporaryFolderAndSqliteSidecars) {
+  TempDir dir;
+  const fs::path folder = dir / ".parts.tmp1-0.dir";
+  const fs::path gpkg = dir / ".out.tmp1-1.gpkg";
+  const int status = inChild([&] {
+    installSignalCleanup();
+    fs::create_directory(folder);
+    const LiveTemporary live_folder(folder, true);
+    const LiveTemporary live_gpkg(gpkg);
+    for (const char* f : {"a.shp", "a.shx", "a.dbf", "a.prj"}) std::ofstream(folder / f) << "x";
+    std::ofstream(gpkg) << "x";
+    std::ofstream(gpkg.string() + "-journal") << "x";
+    ::raise(SIGTERM);
+  });
+  ASSERT_TRUE(WIFSIGNALED(status));
+  EXPECT_FALSE(fs::exists(folder));
+  EXPECT_FALSE(fs::exists(gpkg));
+  EXPECT_FALSE(fs::exists(gpkg.string() + "-journal"));
+}
+
+TEST(Interrupted, AnIgnoredSignalStaysIgnoredAndAFinishedWriteIsKept) {
+  TempDir dir;
+  const fs::path target = dir / "out.txt";
+  const int status = inChild([&] {
+    std::signal(SIGHUP, SIG_IGN);  // nohup: the handler must not take SIGHUP over
+    installSignalCleanup();
+    writeAtomically(target, [&](const fs::path& tmp) {
+      std::ofstream(tmp) << "new\n";
+      ::raise(SIGHUP);
+    });
+  });
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_EQ(readBytes(target), "new\n");
+  EXPECT_TRUE(temporariesIn(dir.path()).empty());
+}
+
+#ifdef GLASSMAP_CLI
+
+struct RunResult {
+  int status = 0;
+  std::string output;  ///< stdout and stderr
+  bool exited(int code) const { return WIFEXITED(status) && WEXITSTATUS(status) == code; }
+};
+
+/// Starts the glassmap command with `args`, output to `log`; `cpus` > 0 pins it to that many of
+/// this process's CPUs (TBB sizes its thread pool from the affinity mask).
+pid_t spawnCli(const std::vector<std::string>& args, const fs::path& log, int cpus = 0) {
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    ::dup2(fd, 1);
+    ::dup2(fd, 2);
+    if (!kSanitized) {  // a runaway allocation fails in the child instead of swapping the machine
+      const rlimit as{std::size_t{6} << 30, std::size_t{6} << 30};
+      ::setrlimit(RLIMIT_AS, &as);
+    }
+    if (cpus > 0) {
+      cpu_set_t have, want;
+      CPU_ZERO(&want);
+      sched_getaffinity(0, sizeof have, &have);
+      for (int c = 0, taken = 0; c < CPU_SETSIZE && taken < cpus; ++c) {
+        if (CPU_ISSET(c, &have)) {
+          CPU_SET(c, &want);
+          ++taken;
+        }
+      }
+      sched_setaffinity(0, sizeof want, &want);
+    }
+    std::vector<char*> argv;
+    std::string exe = GLASSMAP_CLI;
+    argv.push_back(exe.data());
+    std::vector<std::string> copy = args;
+    for (auto& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(exe.c_str(), argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+RunResult runCli(const std::vector<std::string>& args, int cpus = 0) {
+  TempDir logdir;
+  const fs::path log = logdir / "out.txt";
+  const pid_t pid = spawnCli(args, log, cpus);
+  RunResult r;
+  ::waitpid(pid, &r.status, 0);
+  r.output = readBytes(log);
+  return r;
+}
+
+int usableCpus() {
+  cpu_set_t have;
+  sched_getaffinity(0, sizeof have, &have);
+  return CPU_COUNT(&have);
+}
+
+// `glassmap map` on a log full of hostile records: a clean run or a clear error, never a crash.
+TEST(HostileCli, MapOnAHostileLogEndsCleanly) {
+  TempDir dir;
+  std::string text;
+  for (int k = 0; k < 40; ++k) {
+    std::vector<std::string> r(181, "3.0");
+    r[3] = "nan";
+    r[4] = "-1";
+    r[5] = "1e30";
+    r[6] = "inf";
+    text += flaser(k % 7 == 0 ? std::vector<std::string>{} : r, k % 5 == 0 ? 1.0 : 1.0 + k);
+  }
+  const auto log = dir.write("hostile.clf", text);
+  const RunResult res = runCli({"map", log.string(), "-o", (dir / "out").string(), "-q"});
+  ASSERT_FALSE(WIFSIGNALED(res.status)) << "killed by signal " << WTERMSIG(res.status) << "\n" << res.output;
+  if (!res.exited(0)) {
+    EXPECT_NE(res.output.find("error"), std::string::npos) << res.output;
+  }
+}
+
+// A pose a million kilometres away: the grid would need absurd memory; it must be refused up
+// front (or mapped in memory that grows with what was observed), never exhaust the machine.
+TEST(HostileCli, MapWithAPoseFarOutsideTheMapDoesNotExhaustMemory) {
+  TempDir dir;
+  const std::vector<std::string> r(181, "3.0");
+  std::string text = flaser(r, 1.0) + flaser(r, 2.0);
+  text += "FLASER 181";
+  for (const auto& v : r) text += " " + v;
+  text += " 1e9 1e9 0 1 2 0 3 host 3\n";
+  const auto log = dir.write("far.clf", text);
+  TempDir logdir;
+  const pid_t pid = spawnCli({"map", log.string(), "-o", (dir / "out").string(), "-q"}, logdir / "o.txt");
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const std::string out = readBytes(logdir / "o.txt");
+  ASSERT_FALSE(WIFSIGNALED(status)) << "killed by signal " << WTERMSIG(status) << "\n" << out;
+  if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
+    EXPECT_NE(out.find("error"), std::string::npos) << out;
+  }
+}
+
+bool mainInstallsSignalCleanup() {
+  const std::string main_cpp = readBytes(fs::path(GLASSMAP_SOURCE_DIR) / "tools" / "main.cpp");
+  return main_cpp.find("installSignalCleanup") != std::string::npos;
+}
+
+// Kills `glassmap convert` of a large floorplan while it writes: the target is then absent (or
+// complete), and no temporary is left behind. The kill is sent when the temporary appears.
+TEST(InterruptedCli, ConvertKilledMidWriteLeavesNoPartialOutput) {
+  if (!mainInstallsSignalCleanup()) GTEST_SKIP() << "tools/main.cpp does not call installSignalCleanup() yet";
+  TempDir dir;
+  std::vector<std::array<double, 4>> segs;
+  for (int i = 0; i < 60000; ++i) segs.push_back({0.01 * i, 0.0, 0.01 * i, 1.0 + 0.001 * (i % 100)});
+  const auto in = dir.write("big.geojson", geojsonLines(segs));
+  int interrupted = 0, finished = 0;
+  for (const int sig : {SIGTERM, SIGINT}) {
+    for (const std::string ext : {".gpkg", ".dxf", ".shp", ".geojson"}) {
+      SCOPED_TRACE(std::to_string(sig) + ext);
+      const fs::path outdir = dir / ("out" + std::to_string(sig) + ext.substr(1));
+      fs::create_directories(outdir);
+      const fs::path target = outdir / ("floor" + ext);
+      const pid_t pid = spawnCli({"convert", in.string(), target.string(), "-q"}, dir / "log.txt");
+      // Wait for a temporary (file or folder) to appear, then signal.
+      bool seen = false;
+      int status = 0;
+      for (;;) {
+        if (::waitpid(pid, &status, WNOHANG) == pid) break;
+        if (!temporariesIn(outdir).empty()) {
+          seen = true;
+          ::kill(pid, sig);
+          ::waitpid(pid, &status, 0);
+          break;
+        }
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+      }
+      if (seen && WIFSIGNALED(status)) {
+        ++interrupted;
+        EXPECT_EQ(WTERMSIG(status), sig);
+      } else {
+        ++finished;
+        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << readBytes(dir / "log.txt");
+      }
+      EXPECT_TRUE(temporariesIn(outdir).empty()) << temporariesIn(outdir).front();
+      if (fs::exists(target)) {
+        // A target present must be complete: it reads back with every segment.
+        EXPECT_EQ(readFloorplan(target).segments.size(), segs.size());
+      }
+    }
+  }
+  std::printf("[ %d runs interrupted mid-write, %d finished before the signal ]\n", interrupted, finished);
+  EXPECT_GT(interrupted, 0) << "no run was caught mid-write: the test did not test anything";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Determinism
+
+void expectSameFiles(const fs::path& a, const fs::path& b, const std::vector<std::string>& names) {
+  for (const auto& n : names) {
+    ASSERT_TRUE(fs::exists(a / n)) << a / n;
+    ASSERT_TRUE(fs::exists(b / n)) << b / n;
+    EXPECT_TRUE(readBytes(a / n) == readBytes(b / n)) << n << " differs between " << a << " and " << b;
+  }
+}
+
+TEST(Determinism, SimulateAndMapAreByteIdenticalAcrossRunsAndThreadCounts) {
+  TempDir dir;
+  const std::string scene = std::string(GLASSMAP_SOURCE_DIR) + "/maps/glass-corridor/scene.yaml";
+  const int cpus = std::min(usableCpus(), 4);
+  const std::vector<std::pair<std::string, int>> runs = {{"a1", 1}, {"b1", 1}, {"cN", cpus}};
+  for (const auto& [name, n] : runs) {
+    const RunResult sim = runCli({"simulate", scene, "-o", (dir / ("sim-" + name)).string(), "--seed", "42",
+                                  "--duration", kSanitized ? "4" : "12", "-q"},
+                                 n);
+    ASSERT_TRUE(sim.exited(0)) << sim.output;
+    const RunResult map = runCli({"map", (dir / ("sim-" + name) / "log.clf").string(), "-o",
+                                  (dir / ("map-" + name)).string(), "-q"},
+                                 n);
+    ASSERT_TRUE(map.exited(0)) << map.output;
+  }
+  const std::vector<std::string> sim_files = {"log.clf", "groundtruth.tum", "outcomes.bin"};
+  const std::vector<std::string> map_files = {"labels.tif", "map.pgm", "map.yaml"};
+  expectSameFiles(dir / "sim-a1", dir / "sim-b1", sim_files);
+  expectSameFiles(dir / "sim-a1", dir / "sim-cN", sim_files);
+  expectSameFiles(dir / "map-a1", dir / "map-b1", map_files);
+  expectSameFiles(dir / "map-a1", dir / "map-cN", map_files);
+  if (cpus < 2) GTEST_SKIP() << "one usable CPU: compared two single-thread runs only";
+}
+
+#endif  // GLASSMAP_CLI
+
+}  // namespace
+}  // namespace glassmap
