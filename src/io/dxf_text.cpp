@@ -139,22 +139,44 @@ void writeDxfHeaderTemplate(const fs::path& path) {
 void checkDxfGroupCodes(const fs::path& dxf) {
   std::ifstream in(dxf, std::ios::binary);
   if (!in) throw Error("cannot open", dxf.string());
+  auto trim = [](std::string_view v) {
+    while (!v.empty() && (v.back() == '\r' || v.back() == ' ' || v.back() == '\t')) v.remove_suffix(1);
+    while (!v.empty() && (v.front() == ' ' || v.front() == '\t')) v.remove_prefix(1);
+    return v;
+  };
   std::string line;
-  std::size_t number = 0;
+  std::size_t number = 0, section_line = 0;
+  long code = -1000;
+  bool in_section = false;
   while (std::getline(in, line)) {
     ++number;
     if (number == 1 && line.starts_with("AutoCAD Binary DXF")) return;
-    if (number % 2 == 0) continue;  // a value line: anything goes
-    std::string_view code(line);
-    while (!code.empty() && (code.back() == '\r' || code.back() == ' ' || code.back() == '\t')) code.remove_suffix(1);
-    while (!code.empty() && (code.front() == ' ' || code.front() == '\t')) code.remove_prefix(1);
-    if (code.empty() && in.peek() == std::char_traits<char>::eof()) return;  // trailing blank line
-    long value = 0;
-    const auto [ptr, ec] = std::from_chars(code.data(), code.data() + code.size(), value);
-    if (ec != std::errc() || ptr != code.data() + code.size() || value < -5 || value > 1071)
-      throw Error("expected a DXF group code (an integer), got '" + std::string(code.substr(0, 40)) + "'",
+    const std::string_view text = trim(line);
+    if (number % 2 == 0) {  // a value line: only section structure is checked
+      if (code != 0) continue;
+      if (text == "SECTION") {
+        if (in_section)
+          throw Error("SECTION inside the section opened at line " + std::to_string(section_line) +
+                          " (missing ENDSEC)", dxf.string(), number);
+        in_section = true;
+        section_line = number;
+      } else if (text == "ENDSEC") {
+        if (!in_section) throw Error("ENDSEC without SECTION", dxf.string(), number);
+        in_section = false;
+      } else if (text == "EOF") {
+        break;
+      }
+      continue;
+    }
+    if (text.empty() && in.peek() == std::char_traits<char>::eof()) break;  // trailing blank line
+    const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), code);
+    if (ec != std::errc() || ptr != text.data() + text.size() || code < -5 || code > 1071)
+      throw Error("expected a DXF group code (an integer), got '" + std::string(text.substr(0, 40)) + "'",
                   dxf.string(), number);
   }
+  if (in_section)
+    throw Error("section opened at line " + std::to_string(section_line) + " is not closed by ENDSEC", dxf.string(),
+                number);
 }
 
 double dxfUnitInMetres(const fs::path& dxf) {

@@ -418,6 +418,17 @@ TEST(HostileFloorplan, NonFiniteOrOverflowingCoordinatesInAVectorMap) {
   EXPECT_THROW(readFloorplan(p), Error);
 }
 
+// Two 0.5 KB / 1.6 KB DXF files found by fuzzing on which GDAL 3.6's DXF driver loops for minutes
+// (misaligned group codes; a section never closed): refused up front with the line named.
+TEST(HostileFloorplan, MalformedDxfThatHangsGdalIsRefusedQuickly) {
+  const fs::path seeds = fs::path(GLASSMAP_SOURCE_DIR) / "tests" / "data" / "fuzz" / "fuzz_floorplan_dxf";
+  expectErrorWith([&] { readFloorplan(seeds / "hang-misaligned-codes.dxf"); }, "group code");
+  expectErrorWith([&] { readFloorplan(seeds / "hang-unclosed-section.dxf"); }, "SECTION inside");
+  // Well-formed DXF (GDAL's own output, and a minimal hand-written one) still reads.
+  EXPECT_EQ(readFloorplan(seeds / "tiny.dxf").segments.size(), 3u);
+  EXPECT_EQ(readFloorplan(seeds / "minimal.dxf").segments.size(), 4u);
+}
+
 // ---------------------------------------------------------------------------------------------
 // ROS maps and label rasters
 
