@@ -1,4 +1,5 @@
 // glassmap localize --map FLOORPLAN LOG -o EST.tum: Monte Carlo localization against a segment map.
+#include <filesystem>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -66,7 +67,9 @@ void run(const LocalizeArgs& a) {
   if (!a.quiet && cli::stderrIsTerminal())
     std::cerr << "localizing " << log.scans.size() << " scans with the " << model->name() << " model...\n";
   const localize::LocalizeResult r = localize::localizeLog(log, *model, opt);
-  writeTum(a.out, r.trajectory);
+  const std::filesystem::path out_path(a.out);
+  if (out_path.has_parent_path()) std::filesystem::create_directories(out_path.parent_path());
+  writeTum(out_path, r.trajectory);
 
   const nlohmann::json summary = {{"model", model->name()},
                                   {"glass_as", a.glass_as},
