@@ -11,7 +11,7 @@ packages=(
   libcgal-dev libeigen3-dev libgdal-dev gdal-bin libboost-graph-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libcairo2-dev
   nlohmann-json3-dev libyaml-cpp-dev libtbb-dev zlib1g-dev
-  python3 python3-matplotlib
+  python3 python3-matplotlib python3-yaml clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do
