@@ -2,9 +2,13 @@
 #include <iostream>
 
 #include "cli_common.hpp"
+#include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 
 int main(int argc, char** argv) {
+  // SIGINT/SIGTERM remove the temporaries of writes in progress, so an interrupted run leaves
+  // either the old output or the new one, never a partial file.
+  glassmap::installSignalCleanup();
   CLI::App app{
       "glassmap: glass-aware laser mapping, vector floorplans and localization.\n"
       "Run 'glassmap <verb> --help' for the options of a verb."};
