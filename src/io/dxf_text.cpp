@@ -147,7 +147,7 @@ void checkDxfGroupCodes(const fs::path& dxf) {
   std::string line;
   std::size_t number = 0, section_line = 0;
   long code = -1000;
-  bool in_section = false;
+  bool in_section = false, seen_eof = false;
   while (std::getline(in, line)) {
     ++number;
     if (number == 1 && line.starts_with("AutoCAD Binary DXF")) return;
@@ -164,6 +164,7 @@ void checkDxfGroupCodes(const fs::path& dxf) {
         if (!in_section) throw Error("ENDSEC without SECTION", dxf.string(), number);
         in_section = false;
       } else if (text == "EOF") {
+        seen_eof = true;
         break;
       }
       continue;
@@ -177,6 +178,8 @@ void checkDxfGroupCodes(const fs::path& dxf) {
   if (in_section)
     throw Error("section opened at line " + std::to_string(section_line) + " is not closed by ENDSEC", dxf.string(),
                 number);
+  // GDAL's reader can spin at the end of a file that stops without the closing group.
+  if (!seen_eof) throw Error("truncated DXF: no '0 EOF' group at the end", dxf.string(), number);
 }
 
 double dxfUnitInMetres(const fs::path& dxf) {

@@ -418,12 +418,13 @@ TEST(HostileFloorplan, NonFiniteOrOverflowingCoordinatesInAVectorMap) {
   EXPECT_THROW(readFloorplan(p), Error);
 }
 
-// Two 0.5 KB / 1.6 KB DXF files found by fuzzing on which GDAL 3.6's DXF driver loops for minutes
-// (misaligned group codes; a section never closed): refused up front with the line named.
+// Three DXF files (5 B to 1.6 KB) found by fuzzing on which GDAL 3.6's DXF driver loops for
+// minutes (misaligned group codes, a section never closed, no closing EOF): refused up front.
 TEST(HostileFloorplan, MalformedDxfThatHangsGdalIsRefusedQuickly) {
   const fs::path seeds = fs::path(GLASSMAP_SOURCE_DIR) / "tests" / "data" / "fuzz" / "fuzz_floorplan_dxf";
   expectErrorWith([&] { readFloorplan(seeds / "hang-misaligned-codes.dxf"); }, "group code");
   expectErrorWith([&] { readFloorplan(seeds / "hang-unclosed-section.dxf"); }, "SECTION inside");
+  expectErrorWith([&] { readFloorplan(seeds / "hang-no-eof.dxf"); }, "no '0 EOF'");
   // Well-formed DXF (GDAL's own output, and a minimal hand-written one) still reads.
   EXPECT_EQ(readFloorplan(seeds / "tiny.dxf").segments.size(), 3u);
   EXPECT_EQ(readFloorplan(seeds / "minimal.dxf").segments.size(), 4u);
