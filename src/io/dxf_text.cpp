@@ -147,7 +147,7 @@ void checkDxfGroupCodes(const fs::path& dxf) {
   std::string line;
   std::size_t number = 0, section_line = 0;
   long code = -1000;
-  bool in_section = false, seen_eof = false;
+  bool in_section = false, in_table = false, in_block = false, seen_eof = false;
   while (std::getline(in, line)) {
     ++number;
     if (number == 1 && line.starts_with("AutoCAD Binary DXF")) return;
@@ -162,7 +162,16 @@ void checkDxfGroupCodes(const fs::path& dxf) {
         section_line = number;
       } else if (text == "ENDSEC") {
         if (!in_section) throw Error("ENDSEC without SECTION", dxf.string(), number);
+        if (in_table || in_block) throw Error("ENDSEC inside an open TABLE or BLOCK", dxf.string(), number);
         in_section = false;
+      } else if (text == "TABLE" || text == "BLOCK") {  // the same pairing one level down
+        bool& open = text == "TABLE" ? in_table : in_block;
+        if (open || !in_section) throw Error(std::string(text) + " nested or outside a section", dxf.string(), number);
+        open = true;
+      } else if (text == "ENDTAB" || text == "ENDBLK") {
+        bool& open = text == "ENDTAB" ? in_table : in_block;
+        if (!open) throw Error(std::string(text) + " without its TABLE or BLOCK", dxf.string(), number);
+        open = false;
       } else if (text == "EOF") {
         seen_eof = true;
         break;

@@ -17,7 +17,8 @@ void writeDxfHeaderTemplate(const std::filesystem::path& path);
 double dxfUnitInMetres(const std::filesystem::path& dxf);
 
 /// Checks that an ASCII DXF is a sequence of (group code, value) line pairs with integer group
-/// codes in DXF's range (-5..1071), SECTION ... ENDSEC pairs that neither nest nor stay open, and
+/// codes in DXF's range (-5..1071), SECTION/ENDSEC, TABLE/ENDTAB and BLOCK/ENDBLK pairs that
+/// neither nest nor stay open, and
 /// the closing "0 EOF" group;
 /// throws Error naming the file and line otherwise. Run before
 /// GDAL's DXF driver, which loops for minutes on some misaligned files (GDAL 3.6, found by

@@ -418,13 +418,15 @@ TEST(HostileFloorplan, NonFiniteOrOverflowingCoordinatesInAVectorMap) {
   EXPECT_THROW(readFloorplan(p), Error);
 }
 
-// Three DXF files (5 B to 1.6 KB) found by fuzzing on which GDAL 3.6's DXF driver loops for
-// minutes (misaligned group codes, a section never closed, no closing EOF): refused up front.
+// Four DXF files (5 B to 2.5 KB) found by fuzzing on which GDAL 3.6's DXF driver loops for
+// minutes (misaligned group codes, a section never closed, no closing EOF, ENDTAB without TABLE):
+// refused up front.
 TEST(HostileFloorplan, MalformedDxfThatHangsGdalIsRefusedQuickly) {
   const fs::path seeds = fs::path(GLASSMAP_SOURCE_DIR) / "tests" / "data" / "fuzz" / "fuzz_floorplan_dxf";
   expectErrorWith([&] { readFloorplan(seeds / "hang-misaligned-codes.dxf"); }, "group code");
   expectErrorWith([&] { readFloorplan(seeds / "hang-unclosed-section.dxf"); }, "SECTION inside");
   expectErrorWith([&] { readFloorplan(seeds / "hang-no-eof.dxf"); }, "no '0 EOF'");
+  expectErrorWith([&] { readFloorplan(seeds / "hang-endtab-without-table.dxf"); }, "ENDTAB without");
   // Well-formed DXF (GDAL's own output, and a minimal hand-written one) still reads.
   EXPECT_EQ(readFloorplan(seeds / "tiny.dxf").segments.size(), 3u);
   EXPECT_EQ(readFloorplan(seeds / "minimal.dxf").segments.size(), 4u);
