@@ -1,9 +1,13 @@
 #include "cli_common.hpp"
 
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
+
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <fstream>
 #include <vector>
 
 namespace glassmap::cli {
@@ -32,6 +36,14 @@ CLI::App& verb(CLI::App& app, const std::string& name, const std::string& descri
   CLI::App* sub = app.add_subcommand(name, description);
   sub->require_subcommand(1);
   return *sub;
+}
+
+void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j) {
+  writeAtomically(path, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    if (!out) throw Error("cannot write", path.string());
+  });
 }
 
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) == 1; }

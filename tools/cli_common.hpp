@@ -2,7 +2,9 @@
 /// Shared plumbing of the glassmap command: verb registration, output helpers.
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace glassmap::cli {
@@ -22,6 +24,9 @@ void registerAll(CLI::App& app);
 /// The subcommand `name` of app, created with `description` if it does not exist yet.
 /// Lets several cmd_*.cpp files add sub-verbs to one verb (eval cells, eval traj, ...).
 CLI::App& verb(CLI::App& app, const std::string& name, const std::string& description);
+
+/// Writes `j` (indented, newline-terminated) to `path` atomically; throws Error on failure.
+void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j);
 
 /// True when stderr is a terminal (progress is shown only then).
 bool stderrIsTerminal();

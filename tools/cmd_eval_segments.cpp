@@ -43,11 +43,7 @@ void run(const EvalSegmentsArgs& args) {
                             {"segments_per_found_pane", r.segments_per_found_pane},
                             {"longest_false_glass_m", r.longest_false_glass}};
   if (!args.json.empty())
-    writeAtomically(args.json, [&](const fs::path& tmp) {
-      std::ofstream o(tmp);
-      o << j.dump(2) << "\n";
-      if (!o) throw Error("cannot write", args.json);
-    });
+    cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
   std::printf("tolerance %.3f m\n", r.tolerance);
   std::printf("  %-6s %9s %9s %9s %10s %10s %6s %6s\n", "", "precision", "recall", "F1", "truth [m]", "pred [m]",

@@ -72,11 +72,7 @@ void run(const VectorizeArgs& args) {
                             {"dominant_axis_deg", s.dominant_axis_deg},
                             {"seconds", s.seconds}};
   if (!args.json.empty())
-    writeAtomically(args.json, [&](const fs::path& tmp) {
-      std::ofstream o(tmp);
-      o << j.dump(2) << "\n";
-      if (!o) throw Error("cannot write", args.json);
-    });
+    cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
   std::printf("%-22s %zu x %zu cells at %.3f m\n", "labels", static_cast<std::size_t>(grid.width),
               static_cast<std::size_t>(grid.height), grid.resolution);
