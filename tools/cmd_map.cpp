@@ -31,6 +31,7 @@ struct MapArgs {
   int laser_id = 0;
   bool quiet = false;
   bool vectorize = true;
+  double max_memory_mb = 4096.0;
   glass::MappingOptions options;
   mrf::RefineOptions mrf;
 };
@@ -99,6 +100,7 @@ void run(MapArgs& args) {
 
   // Methods: heuristic and direct are cell classifiers of glass/; mrf runs direct and then
   // refines its evidence with the MRF (paper 2.5.5).
+  args.options.max_memory_bytes = static_cast<std::size_t>(args.max_memory_mb * 1e6);
   const bool use_mrf = args.method == "mrf";
   args.options.method = glass::parseMethod(use_mrf ? "direct" : args.method);
   auto progress = [&](const char* stage, double f) {
@@ -206,6 +208,10 @@ const cli::Registrar reg(40, [](CLI::App& app) {
       ->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("!--no-vector", args->vectorize, "skip the vector floorplan");
   cmd->add_option("--resolution", o.resolution, "cell size [m]")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--max-memory", args->max_memory_mb,
+                  "refuse up front a grid whose dense layers would need more than this [MB]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--angle-bin", o.angle_bin_deg, "incidence-angle bin width [deg], divides 180")->capture_default_str();
   cmd->add_option("--range-cap", o.beams.range_cap, "use beams up to this range; max-range readings clear to it [m]")
       ->capture_default_str()->check(CLI::PositiveNumber);

@@ -1,6 +1,7 @@
 #include "glassmap/glass/mapping.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 
 #include "glassmap/core/error.hpp"
@@ -39,6 +40,18 @@ MappingResult mapLog(const LaserLog& log, const MappingOptions& o,
 
   auto t0 = std::chrono::steady_clock::now();
   const grid::GridGeometry geometry = grid::geometryForLog(log, o.resolution, o.beams, o.margin);
+  const double cells = static_cast<double>(geometry.width) * static_cast<double>(geometry.height);
+  const double need = cells * kDenseBytesPerCell;
+  if (need > static_cast<double>(o.max_memory_bytes)) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "the grid of %d x %d cells at %.3g m would need about %.0f MB (%.0f bytes per cell), over "
+                  "the limit of %.0f MB: raise the limit (--max-memory), use a coarser resolution, or check "
+                  "the log for poses far outside the building",
+                  geometry.width, geometry.height, o.resolution, need / 1e6, kDenseBytesPerCell,
+                  static_cast<double>(o.max_memory_bytes) / 1e6);
+    throw Error(text, {}, 0, "max_memory");
+  }
   grid::HitMissGrid counts(geometry);
   const grid::IntegrationStats pass1 = grid::integrateCounts(log, o.beams, counts, report("counts"));
   st.scans = pass1.scans;

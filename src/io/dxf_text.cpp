@@ -151,6 +151,10 @@ void checkDxfGroupCodes(const fs::path& dxf) {
   while (std::getline(in, line)) {
     ++number;
     if (number == 1 && line.starts_with("AutoCAD Binary DXF")) return;
+    // A NUL byte never belongs in a text DXF, and GDAL 3.6's DXF reader can spin forever on one
+    // (found by fuzzing: tests/data/fuzz/fuzz_floorplan_dxf/hang-nul-byte.dxf).
+    if (line.find('\0') != std::string::npos)
+      throw Error("NUL byte in a text DXF (binary data or a damaged file)", dxf.string(), number);
     const std::string_view text = trim(line);
     if (number % 2 == 0) {  // a value line: only section structure is checked
       if (code != 0) continue;

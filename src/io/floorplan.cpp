@@ -167,7 +167,17 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
   if (!fs::exists(path)) throw Error("floorplan file does not exist", file);
   if (lower(path.extension().string()) == ".dxf") io_detail::checkDxfGroupCodes(path);
   ScopedConfig raw_codes("DXF_INCLUDE_RAW_CODE_VALUES", "TRUE");
-  GDALDatasetUniquePtr ds(GDALDataset::Open(file.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  // A known extension opens with its own driver only: no probing of every other driver's parser
+  // on a file that is not theirs (faster, and a smaller surface for malformed input). Any other
+  // OGR source is left to GDAL's probing.
+  std::string driver;
+  try {
+    driver = std::string(gdalDriverName(floorplanFormatFromPath(path)));
+  } catch (const Error&) {
+  }
+  const char* const allowed[] = {driver.c_str(), nullptr};
+  GDALDatasetUniquePtr ds(GDALDataset::Open(file.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY,
+                                            driver.empty() ? nullptr : allowed));
   if (!ds) throw Error("cannot open as a vector floorplan" + errors.suffix(), file);
   VectorMap map;
   map.name = path.stem().string();

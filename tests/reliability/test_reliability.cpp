@@ -424,15 +424,21 @@ TEST(HostileFloorplan, NonFiniteOrOverflowingCoordinatesInAVectorMap) {
   EXPECT_THROW(readFloorplan(p), Error);
 }
 
-// Four DXF files (5 B to 2.5 KB) found by fuzzing on which GDAL 3.6's DXF driver loops for
-// minutes (misaligned group codes, a section never closed, no closing EOF, ENDTAB without TABLE):
-// refused up front.
+// Five DXF files (5 B to 2.5 KB) found by fuzzing on which GDAL 3.6's DXF driver loops for
+// minutes (misaligned group codes, a section never closed, no closing EOF, ENDTAB without TABLE,
+// NUL bytes in the header): refused up front.
 TEST(HostileFloorplan, MalformedDxfThatHangsGdalIsRefusedQuickly) {
   const fs::path seeds = fs::path(GLASSMAP_SOURCE_DIR) / "tests" / "data" / "fuzz" / "fuzz_floorplan_dxf";
   expectErrorWith([&] { readFloorplan(seeds / "hang-misaligned-codes.dxf"); }, "group code");
   expectErrorWith([&] { readFloorplan(seeds / "hang-unclosed-section.dxf"); }, "SECTION inside");
   expectErrorWith([&] { readFloorplan(seeds / "hang-no-eof.dxf"); }, "no '0 EOF'");
-  expectErrorWith([&] { readFloorplan(seeds / "hang-endtab-without-table.dxf"); }, "ENDTAB without");
+  // This one also holds NUL bytes (refused first); without them its ENDTAB is the finding.
+  expectErrorWith([&] { readFloorplan(seeds / "hang-endtab-without-table.dxf"); }, "NUL byte");
+  TempDir dir;
+  std::string endtab = readBytes(seeds / "hang-endtab-without-table.dxf");
+  std::replace(endtab.begin(), endtab.end(), '\0', 'x');
+  expectErrorWith([&] { readFloorplan(dir.write("endtab.dxf", endtab)); }, "ENDTAB without");
+  expectErrorWith([&] { readFloorplan(seeds / "hang-nul-byte.dxf"); }, "NUL byte");
   // Well-formed DXF (GDAL's own output, and a minimal hand-written one) still reads.
   EXPECT_EQ(readFloorplan(seeds / "tiny.dxf").segments.size(), 3u);
   EXPECT_EQ(readFloorplan(seeds / "minimal.dxf").segments.size(), 4u);
@@ -664,9 +670,35 @@ TEST(HostileCli, MapWithAPoseFarOutsideTheMapDoesNotExhaustMemory) {
   ::waitpid(pid, &status, 0);
   const std::string out = readBytes(logdir / "o.txt");
   ASSERT_FALSE(WIFSIGNALED(status)) << "killed by signal " << WTERMSIG(status) << "\n" << out;
-  if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
-    EXPECT_NE(out.find("error"), std::string::npos) << out;
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << out;
+  EXPECT_NE(out.find("grid"), std::string::npos) << out;
+  EXPECT_NE(out.find("error"), std::string::npos) << out;
+}
+
+// A grid whose dense layers would need more memory than allowed is refused before anything is
+// allocated, with the figure; --max-memory raises the limit. Scans 60 m apart make a grid of about
+// 1300 x 1300 cells (~27 MB at 16 bytes per cell).
+TEST(HostileCli, MapRefusesAGridOverTheMemoryLimitUnlessRaised) {
+  TempDir dir;
+  const std::vector<std::string> r(181, "3.0");
+  std::string text;
+  for (int k = 0; k < 4; ++k) {
+    const double x = k < 2 ? 0.1 * k : 60.0 + 0.1 * k;
+    text += "FLASER 181";
+    for (const auto& v : r) text += " " + v;
+    text += " " + std::to_string(x) + " " + std::to_string(x) + " 0 " + std::to_string(x) + " " + std::to_string(x) +
+            " 0 " + std::to_string(k + 1) + " host " + std::to_string(k + 1) + "\n";
   }
+  const auto log = dir.write("wide.clf", text);
+  const RunResult refused = runCli({"map", log.string(), "-o", (dir / "small").string(), "-q", "--max-memory", "10"});
+  ASSERT_TRUE(refused.exited(1)) << refused.output;
+  EXPECT_NE(refused.output.find("would need about"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("over the limit of 10 MB"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("--max-memory"), std::string::npos) << refused.output;
+  EXPECT_FALSE(fs::exists(dir / "small")) << "nothing may be written after a refusal";
+  const RunResult raised = runCli({"map", log.string(), "-o", (dir / "big").string(), "-q", "--max-memory", "100"});
+  ASSERT_TRUE(raised.exited(0)) << raised.output;
+  EXPECT_TRUE(fs::exists(dir / "big" / "labels.tif"));
 }
 
 bool mainInstallsSignalCleanup() {
