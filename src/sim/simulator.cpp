@@ -150,10 +150,14 @@ SimResult simulate(const Scene& scene, const SimOptions& options) {
   if (laser.rate <= 0 || laser.resolution <= 0 || laser.fov <= 0 || laser.max_range <= 0)
     throw Error("laser rate, resolution, field of view and max range must be positive");
   const double dt = 1.0 / laser.rate;
-  const std::vector<Pose2> truth =
+  std::vector<Pose2> truth =
       sampleTrajectory(scene.trajectory, dt, options.duration_limit, options.repeat_until_limit);
+  const std::vector<Pose2> untouched = options.kidnap.time >= 0 ? truth : std::vector<Pose2>{};
+  const std::size_t kidnapped = applyKidnap(truth, dt, options.kidnap, [&](double seconds) {
+    return sampleTrajectory(scene.trajectory, dt, seconds, options.repeat_until_limit);
+  });
   std::mt19937_64 odom_rng(mix(options.seed ^ 0x0d0d0d0dULL));
-  const std::vector<Pose2> odom = simulateOdometry(truth, scene.motion, odom_rng);
+  const std::vector<Pose2> odom = simulateOdometry(truth, scene.motion, odom_rng, kidnapped);
   std::mt19937_64 people_rng(mix(options.seed ^ 0x9e0b1eULL));
   const Box2 box = scene.map.bounds();
   const std::vector<Walker> walkers = makeWalkers(scene.people, box, people_rng);
@@ -218,6 +222,9 @@ SimResult simulate(const Scene& scene, const SimOptions& options) {
     result.log.odometry[k].tv = d.t.norm() / dt;
     result.log.odometry[k].rv = d.theta / dt;
   }
+  if (kidnapped > 0)
+    result.kidnap = KidnapEvent{kidnapped, result.ground_truth[kidnapped].timestamp,
+                                untouched[kidnapped] * laser.T_base_laser, result.ground_truth[kidnapped].pose};
   for (const auto& scan : result.outcomes)
     for (BeamOutcome o : scan) ++result.counts[static_cast<std::size_t>(o)];
   result.log.stats.scans = n;

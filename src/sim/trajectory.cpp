@@ -64,19 +64,73 @@ std::vector<Pose2> sampleTrajectory(const TrajectorySpec& spec, double dt, doubl
   return poses;
 }
 
+std::size_t applyKidnap(std::vector<Pose2>& truth, double dt, const Kidnap& kidnap,
+                        const std::function<std::vector<Pose2>(double)>& resample) {
+  if (kidnap.time < 0 || truth.empty()) return 0;
+  if (!(kidnap.time > 0) || !std::isfinite(kidnap.time))
+    throw Error("the kidnapping time must be a positive number of seconds", {}, 0, "kidnap-at");
+  if (!(kidnap.along >= 0) || !std::isfinite(kidnap.along))
+    throw Error("the kidnapping distance along the trajectory must be >= 0 m", {}, 0, "kidnap-along");
+  const auto k = static_cast<std::size_t>(std::ceil(kidnap.time / dt - 1e-9));
+  const std::size_t n = truth.size();
+  if (k >= n)
+    throw Error("the kidnapping at " + std::to_string(kidnap.time) + " s is after the end of the run (" +
+                    std::to_string(static_cast<double>(n - 1) * dt) + " s)",
+                {}, 0, "kidnap-at");
+  if (kidnap.to) {
+    // The rest of the trajectory, moved rigidly so that it starts at the new pose.
+    const Pose2 T_new_old = *kidnap.to * truth[k].inverse();
+    for (std::size_t j = k; j < n; ++j) truth[j] = T_new_old * truth[j];
+    return k;
+  }
+  // Skip ahead: drop the poses from k up to the first one `along` metres further along the path.
+  std::vector<Pose2> path = truth;
+  double horizon = std::max(static_cast<double>(n - 1) * dt, dt);
+  for (;;) {
+    double length = 0.0;
+    std::size_t m = k;
+    while (m + 1 < path.size() && length < kidnap.along) {
+      length += (path[m + 1].t - path[m].t).norm();
+      ++m;
+    }
+    const bool reached = length >= kidnap.along;
+    if (reached && path.size() - m >= n - k) {
+      truth.resize(k);
+      truth.insert(truth.end(), path.begin() + static_cast<std::ptrdiff_t>(m),
+                   path.begin() + static_cast<std::ptrdiff_t>(m + (n - k)));
+      return k;
+    }
+    horizon *= 2.0;
+    std::vector<Pose2> longer = resample(horizon);
+    if (longer.size() <= path.size()) {
+      // Driven once: the run ends with the trajectory, shorter by the part skipped.
+      if (!reached)
+        throw Error("the kidnapping skips " + std::to_string(kidnap.along) +
+                        " m ahead, past the end of the trajectory",
+                    {}, 0, "kidnap-along");
+      truth.resize(k);
+      truth.insert(truth.end(), path.begin() + static_cast<std::ptrdiff_t>(m), path.end());
+      return k;
+    }
+    path = std::move(longer);
+  }
+}
+
 std::vector<Pose2> simulateOdometry(const std::vector<Pose2>& truth, const MotionNoise& noise,
-                                    std::mt19937_64& rng) {
+                                    std::mt19937_64& rng, std::size_t teleport) {
   std::vector<Pose2> odom;
   odom.reserve(truth.size());
   if (truth.empty()) return odom;
   std::normal_distribution<double> gauss(0.0, 1.0);
   odom.push_back(truth.front());
   for (std::size_t k = 1; k < truth.size(); ++k) {
-    const Vec2 d = truth[k].t - truth[k - 1].t;
+    // A kidnapping moves the robot without its wheels: no motion at all for that step.
+    const bool carried = k == teleport;
+    const Vec2 d = carried ? Vec2::Zero() : Vec2(truth[k].t - truth[k - 1].t);
     const double trans = d.norm();
     // Decomposition of Probabilistic Robotics' odometry model (rot1, trans, rot2).
     const double rot1 = trans > 1e-9 ? angleDiff(std::atan2(d.y(), d.x()), truth[k - 1].theta) : 0.0;
-    const double rot2 = angleDiff(angleDiff(truth[k].theta, truth[k - 1].theta), rot1);
+    const double rot2 = carried ? 0.0 : angleDiff(angleDiff(truth[k].theta, truth[k - 1].theta), rot1);
     // Random-walk noise: variances grow linearly with the motion, so the error after a path
     // does not depend on the sampling rate.
     const double s_trans = noise.odom_trans_sigma * std::sqrt(trans);

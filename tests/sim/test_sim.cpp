@@ -228,3 +228,135 @@ TEST(Scene, BadScenesGiveClearErrors) {
   EXPECT_THROW(sim::laserPreset("lidar-9000"), Error);
   fs::remove_all(dir);
 }
+
+namespace {
+
+// A straight 26 m corridor, 4 m wide, driven along its axis at 0.5 m/s; a coarse laser at 10 Hz.
+sim::Scene corridorScene() {
+  sim::Scene s;
+  s.name = "kidnap-corridor";
+  s.map.segments.push_back({Vec2(-1, -2), Vec2(25, -2), Material::Wall, 0.1});
+  s.map.segments.push_back({Vec2(-1, 2), Vec2(25, 2), Material::Wall, 0.1});
+  s.map.segments.push_back({Vec2(-1, -2), Vec2(-1, 2), Material::Wall, 0.1});
+  s.map.segments.push_back({Vec2(25, -2), Vec2(25, 2), Material::Wall, 0.1});
+  s.laser.fov = deg2rad(180.0);
+  s.laser.resolution = deg2rad(10.0);
+  s.laser.max_range = 30;
+  s.laser.rate = 10;
+  s.trajectory.waypoints = {Vec2(0, 0), Vec2(24, 0)};
+  s.trajectory.round_trip = true;
+  s.trajectory.speed = 0.5;
+  return s;
+}
+
+sim::SimOptions runFor(double seconds, std::uint64_t seed) {
+  sim::SimOptions o;
+  o.seed = seed;
+  o.duration_limit = seconds;
+  o.repeat_until_limit = true;
+  return o;
+}
+
+}  // namespace
+
+TEST(Kidnap, TruthJumpsAheadOdometryRecordsNoMotion) {
+  const sim::Scene scene = corridorScene();
+  const sim::SimResult plain = sim::simulate(scene, runFor(20.0, 5));
+  sim::SimOptions opt = runFor(20.0, 5);
+  opt.kidnap.time = 5.0;
+  opt.kidnap.along = 3.0;
+  const sim::SimResult r = sim::simulate(scene, opt);
+  EXPECT_FALSE(plain.kidnap);
+  ASSERT_TRUE(r.kidnap);
+  const std::size_t k = r.kidnap->scan;
+  EXPECT_EQ(k, 50u);
+  EXPECT_DOUBLE_EQ(r.kidnap->time, 5.0);
+  EXPECT_NEAR(r.kidnap->distance(), 3.0, 1e-9);
+  // The run keeps its length; before the kidnapping it is the run without one, draw for draw.
+  ASSERT_EQ(r.ground_truth.size(), plain.ground_truth.size());
+  for (std::size_t i = 0; i < k; ++i) {
+    EXPECT_EQ(r.ground_truth[i].pose.t, plain.ground_truth[i].pose.t) << i;
+    EXPECT_EQ(r.log.odometry[i].pose.t, plain.log.odometry[i].pose.t) << i;
+    EXPECT_EQ(r.log.scans[i].ranges, plain.log.scans[i].ranges) << i;
+  }
+  // The truth jumps 3 m (plus one 5 cm step) at scan k ...
+  EXPECT_NEAR((r.ground_truth[k].pose.t - r.ground_truth[k - 1].pose.t).norm(), 3.05, 1e-6);
+  EXPECT_NEAR(r.ground_truth[k].pose.x(), 5.5, 1e-9);
+  // ... the odometry does not move at all for that step ...
+  EXPECT_EQ(r.log.odometry[k].pose.t, r.log.odometry[k - 1].pose.t);
+  EXPECT_EQ(r.log.odometry[k].pose.theta, r.log.odometry[k - 1].pose.theta);
+  EXPECT_EQ(r.log.scans[k].odom_pose.t, r.log.scans[k - 1].odom_pose.t);
+  // ... and then integrates the real motion again: it ends about 3 m behind the truth.
+  const Vec2 lag = r.ground_truth.back().pose.t - r.log.odometry.back().pose.t;
+  EXPECT_NEAR(lag.x(), 3.0, 0.15);
+  EXPECT_NEAR(lag.y(), 0.0, 0.15);
+  const Pose2 moved_truth = r.ground_truth[k].pose.between(r.ground_truth.back().pose);
+  const Pose2 moved_odom = r.log.odometry[k].pose.between(r.log.odometry.back().pose);
+  EXPECT_NEAR((moved_truth.t - moved_odom.t).norm(), 0.0, 0.15);
+  // The scans after it see the corridor from the new pose: the beam straight ahead (to the end
+  // wall at x = 25) is 3 m shorter than in the run without kidnapping.
+  const std::size_t ahead = r.log.scans[k].ranges.size() / 2;
+  EXPECT_NEAR(plain.log.scans[k].ranges[ahead] - r.log.scans[k].ranges[ahead], 3.0, 0.1);
+}
+
+TEST(Kidnap, SameSeedSameRun) {
+  sim::SimOptions opt = runFor(12.0, 11);
+  opt.kidnap.time = 4.0;
+  opt.kidnap.along = 2.0;
+  const sim::SimResult a = sim::simulate(corridorScene(), opt);
+  const sim::SimResult b = sim::simulate(corridorScene(), opt);
+  ASSERT_EQ(a.log.scans.size(), b.log.scans.size());
+  for (std::size_t i = 0; i < a.log.scans.size(); ++i) {
+    EXPECT_EQ(a.log.scans[i].ranges, b.log.scans[i].ranges);
+    EXPECT_EQ(a.log.odometry[i].pose.t, b.log.odometry[i].pose.t);
+    EXPECT_EQ(a.ground_truth[i].pose.t, b.ground_truth[i].pose.t);
+  }
+  opt.seed = 12;
+  const sim::SimResult c = sim::simulate(corridorScene(), opt);
+  EXPECT_NE(a.log.odometry.back().pose.t, c.log.odometry.back().pose.t);
+  EXPECT_EQ(a.kidnap->scan, c.kidnap->scan);  // the event itself does not depend on the seed
+}
+
+TEST(Kidnap, JumpToAPoseMovesTheRestRigidly) {
+  const sim::Scene scene = corridorScene();
+  const sim::SimResult plain = sim::simulate(scene, runFor(20.0, 3));
+  sim::SimOptions opt = runFor(20.0, 3);
+  opt.kidnap.time = 2.05;  // the first scan at or after it: 2.1 s
+  opt.kidnap.to = Pose2(20.0, 1.0, kPi);
+  const sim::SimResult r = sim::simulate(scene, opt);
+  ASSERT_TRUE(r.kidnap);
+  const std::size_t k = r.kidnap->scan;
+  EXPECT_EQ(k, 21u);
+  EXPECT_NEAR(r.ground_truth[k].pose.x(), 20.0, 1e-9);
+  EXPECT_NEAR(r.ground_truth[k].pose.y(), 1.0, 1e-9);
+  EXPECT_NEAR(angleDiff(r.ground_truth[k].pose.theta, kPi), 0.0, 1e-9);
+  EXPECT_NEAR(r.kidnap->distance(), std::hypot(20.0 - 1.05, 1.0), 1e-9);
+  // Same motion in the robot's frame as without kidnapping (now heading -x from x = 20).
+  const Pose2 a = plain.ground_truth[k].pose.between(plain.ground_truth[k + 60].pose);
+  const Pose2 b = r.ground_truth[k].pose.between(r.ground_truth[k + 60].pose);
+  EXPECT_NEAR((a.t - b.t).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(r.ground_truth[k + 60].pose.x(), 17.0, 1e-9);
+  EXPECT_EQ(r.log.odometry[k].pose.t, r.log.odometry[k - 1].pose.t);
+}
+
+TEST(Kidnap, ImpossibleKidnappingsAreRefused) {
+  sim::SimOptions opt = runFor(10.0, 1);
+  opt.kidnap.time = 0.0;
+  EXPECT_THROW(sim::simulate(corridorScene(), opt), Error);
+  opt.kidnap.time = 10.5;  // after the run
+  EXPECT_THROW(sim::simulate(corridorScene(), opt), Error);
+  opt.kidnap.time = 5.0;
+  opt.kidnap.along = -1.0;
+  EXPECT_THROW(sim::simulate(corridorScene(), opt), Error);
+  // A trajectory driven once (48 m there and back) has nothing 60 m ahead.
+  sim::SimOptions once;
+  once.kidnap.time = 5.0;
+  once.kidnap.along = 60.0;
+  EXPECT_THROW(sim::simulate(corridorScene(), once), Error);
+  // 10 m ahead is fine: the run ends with the trajectory, 10 m (20 s) shorter.
+  once.kidnap.along = 10.0;
+  const sim::SimResult plain = sim::simulate(corridorScene(), sim::SimOptions{});
+  const sim::SimResult r = sim::simulate(corridorScene(), once);
+  ASSERT_TRUE(r.kidnap);
+  EXPECT_NEAR(static_cast<double>(plain.ground_truth.size() - r.ground_truth.size()), 200.0, 1.0);
+}
