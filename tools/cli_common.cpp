@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <sstream>
 #include <vector>
 
 namespace glassmap::cli {
@@ -44,6 +45,15 @@ void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j) {
     out << j.dump(2) << "\n";
     if (!out) throw Error("cannot write", path.string());
   });
+}
+
+Pose2 parsePose(const std::string& text, const std::string& field) {
+  std::stringstream ss(text);
+  double v[3];
+  char c1 = 0, c2 = 0;
+  if (!(ss >> v[0] >> c1 >> v[1] >> c2 >> v[2]) || c1 != ',' || c2 != ',' || !ss.eof())
+    throw Error("expected x,y,theta (metres, metres, radians), got '" + text + "'", {}, 0, field);
+  return {v[0], v[1], v[2]};
 }
 
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) == 1; }

@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "glassmap/core/pose2.hpp"
+
 namespace glassmap::cli {
 
 /// A verb adds its subcommand to the app. `order` sorts verbs in --help.
@@ -27,6 +29,9 @@ CLI::App& verb(CLI::App& app, const std::string& name, const std::string& descri
 
 /// Writes `j` (indented, newline-terminated) to `path` atomically; throws Error on failure.
 void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j);
+
+/// Parses "x,y,theta" [m, m, rad]; throws Error naming `field` otherwise.
+Pose2 parsePose(const std::string& text, const std::string& field);
 
 /// True when stderr is a terminal (progress is shown only then).
 bool stderrIsTerminal();

@@ -18,7 +18,7 @@ namespace glassmap {
 namespace {
 
 struct LocalizeArgs {
-  std::string map, log, out, json;
+  std::string map, log, out, json, spread;
   std::string model = "glass";
   std::string glass_as = "opaque";
   int particles = 2000;
@@ -33,15 +33,6 @@ struct LocalizeArgs {
   bool no_inject = false;
   bool quiet = false;
 };
-
-Pose2 parsePose(const std::string& text, const std::string& field) {
-  std::stringstream ss(text);
-  double v[3];
-  char c1 = 0, c2 = 0;
-  if (!(ss >> v[0] >> c1 >> v[1] >> c2 >> v[2]) || c1 != ',' || c2 != ',' || !ss.eof())
-    throw Error("expected x,y,theta (metres, metres, radians), got '" + text + "'", {}, 0, field);
-  return {v[0], v[1], v[2]};
-}
 
 void run(const LocalizeArgs& a) {
   const VectorMap map = readFloorplan(a.map);
@@ -62,14 +53,19 @@ void run(const LocalizeArgs& a) {
   opt.filter.inject = !a.no_inject;
   opt.filter.seed = a.seed;
   opt.filter.global_temperature = a.global_temperature;
-  if (!a.init.empty()) opt.init = parsePose(a.init, "init");
-  if (!a.laser_offset.empty()) opt.T_base_laser = parsePose(a.laser_offset, "laser-offset");
+  if (!a.init.empty()) opt.init = cli::parsePose(a.init, "init");
+  if (!a.laser_offset.empty()) opt.T_base_laser = cli::parsePose(a.laser_offset, "laser-offset");
   if (!a.quiet && cli::stderrIsTerminal())
     std::cerr << "localizing " << log.scans.size() << " scans with the " << model->name() << " model...\n";
   const localize::LocalizeResult r = localize::localizeLog(log, *model, opt);
   const std::filesystem::path out_path(a.out);
   if (out_path.has_parent_path()) std::filesystem::create_directories(out_path.parent_path());
   writeTum(out_path, r.trajectory);
+  if (!a.spread.empty()) {
+    const std::filesystem::path spread_path(a.spread);
+    if (spread_path.has_parent_path()) std::filesystem::create_directories(spread_path.parent_path());
+    localize::writeSpreadCsv(spread_path, r);
+  }
 
   const nlohmann::json summary = {{"model", model->name()},
                                   {"glass_as", a.glass_as},
@@ -129,6 +125,10 @@ const cli::Registrar reg(60, [](CLI::App& app) {
   sub->add_flag("--no-inject", a->no_inject, "never inject random particles (no recovery)");
   sub->add_option("--seed", a->seed, "random seed; the same seed gives the same estimate")->capture_default_str();
   sub->add_option("--json", a->json, "also write the summary as JSON");
+  sub->add_option("--spread", a->spread,
+                  "also write the particle spread per scan as CSV: t, spread_m (weighted RMS distance of\n"
+                  "the particles from the estimate), particles, corrected (1 = measurement update),\n"
+                  "relocalizations (global re-initialisations so far)");
   sub->add_flag("-q,--quiet", a->quiet, "print nothing on success");
   sub->callback([a] { run(*a); });
 });

@@ -25,8 +25,13 @@ struct SimulateArgs {
   double duration = 0.0;
   double people = -1.0;
   double range_sigma = -1.0;
+  double kidnap_at = -1.0;
+  double kidnap_along = 0.0;
+  std::string kidnap_to;
   bool quiet = false;
 };
+
+nlohmann::json poseJson(const Pose2& p) { return {p.x(), p.y(), p.theta}; }
 
 nlohmann::json sceneJson(const sim::Scene& s) {
   const auto& l = s.laser;
@@ -63,6 +68,9 @@ void run(const SimulateArgs& args) {
   options.seed = args.seed;
   options.duration_limit = args.duration;
   options.repeat_until_limit = args.duration > 0;
+  options.kidnap.time = args.kidnap_at;
+  options.kidnap.along = args.kidnap_along;
+  if (!args.kidnap_to.empty()) options.kidnap.to = cli::parsePose(args.kidnap_to, "kidnap-to");
   if (!args.quiet) std::cerr << "simulating " << scene.name << " (seed " << args.seed << ")...\n";
   const sim::SimResult result = sim::simulate(scene, options);
 
@@ -95,7 +103,18 @@ void run(const SimulateArgs& args) {
                          {"outcome_counts", counts},
                          {"outcome_codes", {"wall", "glass_direct", "glass_reflected", "glass_transmitted",
                                             "person", "max_range"}},
+                         {"kidnap", nullptr},
                          {"seconds", seconds}};
+  if (result.kidnap) {
+    const sim::KidnapEvent& k = *result.kidnap;
+    meta["kidnap"] = {{"time", k.time},
+                      {"scan", k.scan},
+                      {"from", poseJson(k.from)},
+                      {"to", poseJson(k.to)},
+                      {"distance_m", k.distance()},
+                      {"heading_change_deg", rad2deg(std::abs(angleDiff(k.to.theta, k.from.theta)))},
+                      {"along_m", options.kidnap.to ? nlohmann::json(nullptr) : nlohmann::json(options.kidnap.along)}};
+  }
   writeAtomically(dir / "meta.json", [&](const fs::path& tmp) {
     std::ofstream(tmp) << meta.dump(2) << "\n";
   });
@@ -105,6 +124,8 @@ void run(const SimulateArgs& args) {
     for (auto& [name, n] : counts.items())
       std::printf("  %-16s %12zu  (%.2f%%)\n", name.c_str(), n.get<std::size_t>(),
                   beams ? 100.0 * n.get<double>() / static_cast<double>(beams) : 0.0);
+    if (result.kidnap)
+      std::printf("%-18s %10.2f m  (at %.2f s)\n", "kidnapped", result.kidnap->distance(), result.kidnap->time);
     std::printf("%-18s %12.2f\n", "seconds", seconds);
     std::printf("wrote %s/{log.clf,groundtruth.tum,floorplan.gpkg,floorplan.geojson,outcomes.bin,meta.json}\n",
                 dir.string().c_str());
@@ -126,6 +147,20 @@ const cli::Registrar reg(30, [](CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--people", args->people, "override the scene's people density [per 100 m^2]");
   sub->add_option("--range-sigma", args->range_sigma, "override the laser's range noise [m]");
+  CLI::Option* at = sub->add_option(
+      "--kidnap-at", args->kidnap_at,
+      "kidnap the robot at this time [s]: the first scan at or after it sees the robot elsewhere,\n"
+      "the odometry records no motion for the jump and then integrates the real motion again;\n"
+      "meta.json gets the kidnap time, scan and true poses before/after (truth jumps in groundtruth.tum)");
+  sub->add_option("--kidnap-along", args->kidnap_along,
+                  "with --kidnap-at: jump this far ahead along the trajectory, which goes on from there [m]")
+      ->needs(at)
+      ->capture_default_str();
+  sub->add_option("--kidnap-to", args->kidnap_to,
+                  "with --kidnap-at: jump to this base pose x,y,theta [m,m,rad] instead; the rest of the\n"
+                  "trajectory moves rigidly with it (keep it in free space)")
+      ->needs(at)
+      ->excludes("--kidnap-along");
   sub->add_flag("-q,--quiet", args->quiet, "print nothing on success");
   sub->callback([args] { run(*args); });
 });

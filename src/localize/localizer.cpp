@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <fstream>
 
+#include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 
 namespace glassmap::localize {
@@ -50,7 +53,9 @@ LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model
     const OdometryDelta delta = odometryDelta(odom_at_update, odom);
     const double turned = std::abs(angleDiff(odom.theta, odom_at_update.theta));
     const bool first = k == 0;
-    if (first || std::abs(delta.trans) >= options.update_min_trans || turned >= options.update_min_rot) {
+    const bool updated =
+        first || std::abs(delta.trans) >= options.update_min_trans || turned >= options.update_min_rot;
+    if (updated) {
       const auto t0 = clock();
       if (first) {
         if (options.init)
@@ -74,6 +79,9 @@ LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model
       result.trajectory.push_back({scan.timestamp, est_at_update * odom_at_update.between(odom), 0.0, 0.0});
     }
     result.spread.push_back(filter.spread());
+    result.particles.push_back(filter.size());
+    result.corrected.push_back(updated ? 1 : 0);
+    result.relocalized.push_back(filter.relocalizations());
   }
   result.relocalizations = filter.relocalizations();
   result.seconds = std::chrono::duration<double>(clock() - t_start).count();
@@ -81,6 +89,25 @@ LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model
   result.mean_particles = result.updates ? particle_sum / static_cast<double>(result.updates) : 0.0;
   result.log_duration = log.scans.back().timestamp - log.scans.front().timestamp;
   return result;
+}
+
+void writeSpreadCsv(const std::filesystem::path& path, const LocalizeResult& result) {
+  const std::size_t n = result.trajectory.size();
+  if (result.spread.size() != n || result.particles.size() != n || result.corrected.size() != n ||
+      result.relocalized.size() != n)
+    throw Error("the per-scan filter state does not match the trajectory", path.string());
+  writeAtomically(path, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp);
+    out << "t,spread_m,particles,corrected,relocalizations\n";
+    char line[128];
+    for (std::size_t k = 0; k < n; ++k) {
+      std::snprintf(line, sizeof line, "%.6f,%.6g,%zu,%d,%zu\n", result.trajectory[k].timestamp,
+                    result.spread[k], result.particles[k], static_cast<int>(result.corrected[k]),
+                    result.relocalized[k]);
+      out << line;
+    }
+    if (!out) throw Error("cannot write", path.string());
+  });
 }
 
 }  // namespace glassmap::localize

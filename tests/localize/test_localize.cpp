@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numeric>
+#include <sstream>
 
 #include "glassmap/core/error.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
@@ -214,6 +218,99 @@ TEST(Localizer, RefusesALogWithoutOdometry) {
   log.scans.push_back(scanAt(*model, Pose2(3, 2.5, 0)));
   log.scans.back().has_odom = false;
   EXPECT_THROW(localizeLog(log, *model, {}), Error);
+}
+
+// A log driven around the room with perfect odometry; at scan `kidnap_at` (0 = never) the robot is
+// carried to another pose and the odometry does not see it.
+LaserLog roomLog(const sensor::SensorModel& model, std::size_t scans, std::size_t kidnap_at,
+                 std::vector<Pose2>* truths = nullptr) {
+  LaserLog log;
+  Pose2 truth(2.0, 1.5, 0.3), odom = truth;
+  for (std::size_t k = 0; k < scans; ++k) {
+    if (k > 0) {
+      const Pose2 step(0.05, 0, 0.03);
+      truth = truth * step;
+      odom = odom * step;
+      if (k == kidnap_at) truth = Pose2(7.5, 4.8, -2.5);
+    }
+    if (truths) truths->push_back(truth);
+    LaserScan s = scanAt(model, truth);
+    s.timestamp = 0.1 * static_cast<double>(k);
+    s.odom_pose = odom;
+    s.has_odom = true;
+    log.scans.push_back(std::move(s));
+  }
+  return log;
+}
+
+TEST(Localizer, ReportsTheParticleSpreadOfEveryScan) {
+  const auto model = sensor::makeSensorModel("glass", room());
+  LocalizeOptions o;
+  o.filter.max_particles = 3000;
+  o.filter.seed = 5;
+  o.beams = 30;
+  o.init = Pose2(2.0, 1.5, 0.3);
+  o.init_sigma_xy = 0.3;
+  std::vector<Pose2> truth;
+  const std::size_t n = 160;
+  const LaserLog log = roomLog(*model, n, 20, &truth);
+  const LocalizeResult r = localizeLog(log, *model, o);
+  ASSERT_EQ(r.trajectory.size(), n);
+  ASSERT_EQ(r.spread.size(), n);
+  ASSERT_EQ(r.particles.size(), n);
+  ASSERT_EQ(r.corrected.size(), n);
+  ASSERT_EQ(r.relocalized.size(), n);
+  EXPECT_EQ(r.corrected[0], 1);
+  // The first correction already tightens the 0.3 m initial cloud; tracking keeps it tight.
+  EXPECT_LT(r.spread[0], 0.3 * std::sqrt(2.0));
+  EXPECT_LT(r.spread[19], 0.1);
+  // Kidnapped 5.8 m away at scan 20: the filter scatters particles to find the robot again (the
+  // spread grows by an order of magnitude), then the cloud closes in on the new pose.
+  const double after = *std::max_element(r.spread.begin() + 20, r.spread.end());
+  EXPECT_GT(after, 1.0);
+  EXPECT_LT(r.spread.back(), 0.1);
+  EXPECT_LT((r.trajectory.back().pose.t - truth.back().t).norm(), 0.1);
+  EXPECT_TRUE(std::is_sorted(r.relocalized.begin(), r.relocalized.end()));
+  for (std::size_t k = 0; k < n; ++k) {
+    EXPECT_TRUE(std::isfinite(r.spread[k]) && r.spread[k] >= 0) << k;
+    EXPECT_GT(r.particles[k], 0u) << k;
+  }
+}
+
+TEST(Localizer, SpreadCsvHasOneRowPerScan) {
+  const auto model = sensor::makeSensorModel("beam", room());
+  LocalizeOptions o;
+  o.filter.max_particles = 500;
+  o.init = Pose2(2.0, 1.5, 0.3);
+  LocalizeResult r = localizeLog(roomLog(*model, 30, 0), *model, o);
+  const auto path = std::filesystem::temp_directory_path() / "glassmap_test_spread.csv";
+  writeSpreadCsv(path, r);
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "t,spread_m,particles,corrected,relocalizations");
+  std::size_t k = 0;
+  while (std::getline(in, line)) {
+    ASSERT_LT(k, r.trajectory.size());
+    std::stringstream ss(line);
+    double t = 0, spread = 0;
+    std::size_t particles = 0, relocalizations = 0;
+    int corrected = -1;
+    char c[4];
+    ss >> t >> c[0] >> spread >> c[1] >> particles >> c[2] >> corrected >> c[3] >> relocalizations;
+    ASSERT_TRUE(ss) << line;
+    EXPECT_NEAR(t, r.trajectory[k].timestamp, 1e-6);
+    EXPECT_NEAR(spread, r.spread[k], 1e-5 * r.spread[k]);
+    EXPECT_EQ(particles, r.particles[k]);
+    EXPECT_EQ(corrected, r.corrected[k]);
+    EXPECT_EQ(relocalizations, r.relocalized[k]);
+    ++k;
+  }
+  EXPECT_EQ(k, 30u);
+  std::filesystem::remove(path);
+  r.spread.pop_back();  // the per-scan state must match the trajectory
+  EXPECT_THROW(writeSpreadCsv(path, r), Error);
+  EXPECT_FALSE(std::filesystem::exists(path));
 }
 
 }  // namespace

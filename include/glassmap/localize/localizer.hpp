@@ -2,6 +2,8 @@
 /// Runs MCL over a whole laser log: odometry from the scans (or ODOM records) only, never the
 /// log's laser poses; one pose estimate (T_map_laser) per scan.
 
+#include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <vector>
 
@@ -25,7 +27,10 @@ struct LocalizeOptions {
 /// What a run did.
 struct LocalizeResult {
   std::vector<StampedPose> trajectory;  ///< T_map_laser per scan
-  std::vector<double> spread;           ///< particle position std dev per scan [m]
+  std::vector<double> spread;           ///< particle spread per scan: ParticleFilter::spread() [m]
+  std::vector<std::size_t> particles;   ///< particle count per scan
+  std::vector<std::uint8_t> corrected;  ///< per scan: 1 when it was a measurement update
+  std::vector<std::size_t> relocalized; ///< per scan: global re-initialisations so far
   std::size_t scans = 0;                ///< scans read
   std::size_t updates = 0;              ///< measurement updates (corrections)
   std::size_t resamplings = 0;
@@ -42,5 +47,9 @@ struct LocalizeResult {
 /// odometry for its scans.
 LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model,
                            const LocalizeOptions& options);
+
+/// Writes the per-scan filter state as CSV (atomically): t [s], spread_m, particles, corrected,
+/// relocalizations, one row per estimate of result.trajectory. Throws Error when it cannot write.
+void writeSpreadCsv(const std::filesystem::path& path, const LocalizeResult& result);
 
 }  // namespace glassmap::localize
