@@ -15,12 +15,16 @@ FINITE = {
     "map_summary.csv": ["f1_cells_mean", "success_rate", "seconds_median"],
     "stability.csv": ["value", "metric"],
     "stability_summary.csv": ["value", "metric_mean", "success_rate"],
-    "fig8.csv": ["t", "position_error"],
+    "fig8.csv": ["t", "position_error", "spread_m"],
+    "kidnap.csv": ["distance", "kidnap_time", "jump_m", "error_before_max", "ate_rmse"],
+    "kidnap_summary.csv": ["distance", "success_rate"],
     "recommendations.csv": ["best_accuracy", "best_cost", "cheapest_accuracy", "cheapest_cost"],
 }
 COLUMNS = {"loc_grid.csv": sweep.LOC_COLS, "loc_summary.csv": sweep.LOC_SUM_COLS,
            "map_grid.csv": sweep.MAP_COLS, "map_summary.csv": sweep.MAP_SUM_COLS,
-           "stability.csv": sweep.STAB_COLS, "stability_summary.csv": sweep.STAB_SUM_COLS}
+           "stability.csv": sweep.STAB_COLS, "stability_summary.csv": sweep.STAB_SUM_COLS,
+           "fig8.csv": sweep.FIG8_COLS, "kidnap.csv": sweep.KID_COLS,
+           "kidnap_summary.csv": sweep.KID_SUM_COLS}
 
 
 def main(out):
@@ -55,6 +59,28 @@ def main(out):
         crit = sweep.loc_success if r["task"] == "loc" else sweep.map_success
         if int(r["success"]) != int(crit(float(r["metric"]))):
             bad.append(f"stability: success flag wrong in {r}")
+    axes = {r["axis"] for r in csv.DictReader(open(out / "stability_summary.csv"))}
+    if axes != set(sweep.config(True, None)["axes"]):
+        bad.append(f"stability_summary: axes {sorted(axes)} != the quick config's")
+    panes = [r for r in csv.DictReader(open(out / "stability.csv")) if r["axis"] == "panes"]
+    if not {"loc", "map"} <= {r["task"] for r in panes}:
+        bad.append("stability: the panes sweep needs localization and mapping rows")
+    quick_k = sweep.config(True, None)["kidnap"]
+    for r in csv.DictReader(open(out / "kidnap.csv")):
+        # recovered <=> a time to recover; the event happened when asked, and as far as asked
+        if int(r["recovered"]) != (r["time_to_recover"] != ""):
+            bad.append(f"kidnap: recovered flag and time to recover disagree in {r}")
+        if r["time_to_recover"] != "" and not 0 <= float(r["time_to_recover"]) < 1e4:
+            bad.append(f"kidnap: time to recover out of range in {r}")
+        if abs(float(r["kidnap_time"]) - quick_k["at"]) > 0.11:
+            bad.append(f"kidnap: kidnap time {r['kidnap_time']} != {quick_k['at']}")
+        if float(r["jump_m"]) > float(r["distance"]) + 1e-6:
+            bad.append(f"kidnap: jumped {r['jump_m']} m, further than {r['distance']} m along the path")
+        if float(r["error_before_max"]) >= sweep.SUCCESS_ATE_M:
+            bad.append(f"kidnap: lost before the kidnapping in {r}")
+    spread = [float(r["spread_m"]) for r in csv.DictReader(open(out / "fig8.csv"))]
+    if spread and not all(s >= 0 for s in spread):
+        bad.append("fig8: negative particle spread")
     for b in bad[:30]:
         print("FAIL", b)
     print(f"{'FAILED' if bad else 'OK'}: {len(bad)} problems in {out}")

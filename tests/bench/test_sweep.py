@@ -113,6 +113,39 @@ class Scenes(unittest.TestCase):
                           if f["properties"]["material"] == "glass"}, {0.07})
         self.assertEqual(g["features"][-1]["properties"]["thickness"], 0.01)   # copy, not in place
 
+    def test_spread_slots(self):
+        for k in range(sweep.PANE_SLOTS + 1):
+            sl = sweep.spread_slots(k)
+            self.assertEqual(len(sl), k)
+            self.assertTrue(all(0 <= i < sweep.PANE_SLOTS for i in sl))
+        self.assertEqual(sweep.spread_slots(2), [0, sweep.PANE_SLOTS - 1])   # both ends
+        with self.assertRaises(ValueError):
+            sweep.spread_slots(sweep.PANE_SLOTS + 1)
+
+    def test_panes_corridor(self):
+        def side(g, y):
+            segs = sorted((min(a[0], b[0]), max(a[0], b[0]), f["properties"]["material"])
+                          for f in g["features"]
+                          for a, b in [f["geometry"]["coordinates"]] if a[1] == y and b[1] == y)
+            return segs
+        for n in (0, 1, 5, 18):
+            g = sweep.panes_corridor_geojson(n, 0.02)
+            glass = [f for f in g["features"] if f["properties"]["material"] == "glass"]
+            self.assertEqual(len(glass), n)
+            self.assertTrue(all(f["properties"]["thickness"] == 0.02 for f in glass))
+            for y, k in ((3, (n + 1) // 2), (0, n // 2)):
+                segs = side(g, y)
+                # each corridor wall is covered from x = 0 to 20 without gaps or overlaps
+                self.assertEqual(segs[0][0], 0)
+                self.assertEqual(segs[-1][1], 20)
+                self.assertTrue(all(a[1] == b[0] for a, b in zip(segs, segs[1:])), segs)
+                panes = [s for s in segs if s[2] == "glass"]
+                self.assertEqual(len(panes), k)
+                self.assertTrue(all(b - a == 2 for a, b, _ in panes))
+            json.dumps(g)
+        with self.assertRaises(ValueError):
+            sweep.panes_corridor_geojson(19)
+
     def test_config_modes(self):
         q, f = sweep.config(True, None), sweep.config(False, None)
         self.assertLessEqual(q["seeds"], 2)
@@ -121,6 +154,82 @@ class Scenes(unittest.TestCase):
         self.assertEqual(f["particles"], [100, 500, 2500, 10000])
         self.assertEqual(set(f["models"]), set(sweep.LOC_MODELS))
         self.assertEqual(sweep.config(False, 4)["loc_seeds"], 4)
+        # the new sweeps are in both modes, small in quick mode
+        self.assertIn("panes", q["axes"]); self.assertIn("panes", f["axes"])
+        self.assertEqual(f["axes"]["panes"][0], 0)
+        self.assertLessEqual(len(q["kidnap"]["distances"]) * q["kidnap"]["seeds"], 2)
+        self.assertEqual(f["kidnap"]["distances"], sorted(f["kidnap"]["distances"]))
+        for mode in (q, f):
+            k = mode["kidnap"]
+            self.assertGreaterEqual(k["duration"] - k["at"], sweep.RECOVER_HOLD_S + 5)
+        self.assertEqual(set(sweep.chart_names(f)) >= {"stability_panes", "stability_kidnap",
+                                                        "fig8_paper_corridor"}, True)
+
+
+class Recovery(unittest.TestCase):
+    def errs(self, values, dt=1.0):
+        return [(i * dt, e) for i, e in enumerate(values)]
+
+    def test_recovers_when_the_error_stays_under(self):
+        # kidnapped at t = 2: error jumps, comes back under 0.2 m at t = 5 and stays (to t = 20)
+        e = self.errs([0.01, 0.01, 3.0, 2.0, 0.5, 0.1, 0.3, 0.1] + [0.05] * 13)
+        self.assertAlmostEqual(sweep.time_to_recover(e, 2.0), 5.0)   # first under-0.2 after the last excursion (t = 7)
+
+    def test_never_left(self):
+        e = self.errs([0.01] * 20)
+        self.assertEqual(sweep.time_to_recover(e, 3.0), 0.0)
+
+    def test_not_recovered(self):
+        self.assertIsNone(sweep.time_to_recover(self.errs([0.01, 5.0, 5.0, 5.0]), 1.0))
+        # the last estimate is off: no recovery, even if it was under before
+        self.assertIsNone(sweep.time_to_recover(self.errs([0.01] * 20 + [0.4]), 1.0))
+
+    def test_hold(self):
+        # under again for only the last 3 s of the run: too short to count
+        e = self.errs([0.01, 5.0] + [5.0] * 15 + [0.01] * 4)
+        self.assertIsNone(sweep.time_to_recover(e, 1.0))
+        self.assertAlmostEqual(sweep.time_to_recover(e, 1.0, hold=3.0), 16.0)
+
+    def test_threshold_is_strict_and_nan_is_failure(self):
+        e = self.errs([0.0] + [0.2] * 20)
+        self.assertIsNone(sweep.time_to_recover(e, 0.5))
+        e = self.errs([0.0] * 5 + [float("nan")] + [0.0] * 15)
+        self.assertAlmostEqual(sweep.time_to_recover(e, 1.0), 5.0)
+
+    def test_before_the_kidnapping_does_not_count(self):
+        # errors before t_kidnap are ignored; unsorted input is fine
+        e = list(reversed(self.errs([9.0] * 3 + [0.01] * 18)))
+        self.assertEqual(sweep.time_to_recover(e, 3.0), 0.0)
+        self.assertIsNone(sweep.time_to_recover([], 3.0))
+
+
+class PartialRuns(unittest.TestCase):
+    def test_merge_rows(self):
+        old = [{"axis": "a", "v": 1}, {"axis": "b", "v": 2}, {"axis": "a", "v": 3}]
+        new = [{"axis": "a", "v": 9}]
+        self.assertEqual(sweep.merge_rows(old, new, lambda r: r["axis"] == "a"),
+                         [{"axis": "b", "v": 2}, {"axis": "a", "v": 9}])
+
+    def test_csv_round_trip(self):
+        import tempfile
+        with tempfile.TemporaryDirectory() as d:
+            p = Path(d) / "x.csv"
+            rows = [{"axis": "panes", "value": 4, "rate": 0.5, "breaks_at": "", "m": float("nan")}]
+            sweep.write_csv(p, rows, ["axis", "value", "rate", "breaks_at", "m"])
+            back = sweep.read_csv_typed(p)
+            self.assertEqual(back[0]["axis"], "panes")
+            self.assertEqual(back[0]["value"], 4); self.assertIsInstance(back[0]["value"], int)
+            self.assertEqual(back[0]["rate"], 0.5)
+            self.assertEqual(back[0]["breaks_at"], "")
+            self.assertTrue(math.isnan(back[0]["m"]))
+            self.assertEqual(sweep.read_csv_typed(Path(d) / "missing.csv"), [])
+
+    def test_read_spread(self):
+        import tempfile
+        with tempfile.TemporaryDirectory() as d:
+            p = Path(d) / "spread.csv"
+            p.write_text("t,spread_m,particles,corrected,relocalizations\n0.000000,0.5,10,1,0\n0.100000,0.25,10,0,0\n")
+            self.assertEqual(sweep.read_spread(p), {0.0: 0.5, 0.1: 0.25})
 
 
 if __name__ == "__main__":

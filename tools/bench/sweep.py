@@ -34,6 +34,8 @@ SUCCESS_F1 = 0.8         # mapping succeeds when the glass F1 (cells, 2-cell tol
 BREAK_RATE = 0.5         # a method "breaks" at the first swept value whose success rate is below this
 WITHIN = 0.10            # "cheapest setting within 10% of the best accuracy"
 LOC_ABS_TOL_M = 0.01     # ... or, for localization, within 1 cm of the best ATE
+RECOVER_HOLD_S = 10.0    # a kidnapped filter recovered when its error stays under SUCCESS_ATE_M from some
+                         # time on to the end of the run, and the run goes on this long after that [s]
 
 # localization model variants: label -> (--model, --glass-as)
 LOC_MODELS = {
@@ -173,6 +175,86 @@ def set_glass_thickness(geojson: dict, thickness: float) -> dict:
     return g
 
 
+PANE_SLOTS = 9   # 2 m slots per corridor side between x = 1 and x = 19
+
+
+def spread_slots(k: int, slots: int = PANE_SLOTS) -> list[int]:
+    """k distinct slot indices out of `slots`, spread evenly (0 -> [], slots -> all)."""
+    if not 0 <= k <= slots:
+        raise ValueError(f"{k} panes do not fit in {slots} slots")
+    if k == 0:
+        return []
+    if k == 1:
+        return [slots // 2]
+    return sorted({round(i * (slots - 1) / (k - 1)) for i in range(k)})
+
+
+def panes_corridor_geojson(n: int, thickness: float = 0.01) -> dict:
+    """A 20 m x 3 m corridor (y 0..3) between two 20 m x 4 m rooms (y 3..7 and -4..0), its two
+    walls made of 2 m slots between x = 1 and x = 19 (walls at both ends): n of the 18 slots are glass
+    panes, ceil(n/2) in the upper wall and floor(n/2) in the lower one, spread evenly along each; the
+    others are wall. The rooms behind give transmitted beams something to return from."""
+    if not 0 <= n <= 2 * PANE_SLOTS:
+        raise ValueError(f"0..{2 * PANE_SLOTS} panes, not {n}")
+    def line(a, b, mat, th):
+        return {"type": "Feature", "properties": {"material": mat, "thickness": th},
+                "geometry": {"type": "LineString", "coordinates": [list(a), list(b)]}}
+    feats = [line(p, q, "wall", 0.15) for p, q in
+             [((0, -4), (20, -4)), ((0, 7), (20, 7)), ((0, -4), (0, 7)), ((20, -4), (20, 7)),
+              ((0, 0), (1, 0)), ((19, 0), (20, 0)), ((0, 3), (1, 3)), ((19, 3), (20, 3))]]
+    for y, k in ((3, (n + 1) // 2), (0, n // 2)):
+        glass = set(spread_slots(k))
+        x0 = 1
+        for i in range(PANE_SLOTS + 1):      # merge neighbouring wall slots into one segment
+            if i == PANE_SLOTS or i in glass:
+                if 1 + 2 * i > x0:
+                    feats.append(line((x0, y), (1 + 2 * i, y), "wall", 0.15))
+                if i < PANE_SLOTS:
+                    feats.append(line((1 + 2 * i, y), (3 + 2 * i, y), "glass", thickness))
+                x0 = 3 + 2 * i
+    return {"type": "FeatureCollection", "name": f"panes-{n}", "features": feats}
+
+
+def time_to_recover(errors, t_kidnap: float, threshold: float = SUCCESS_ATE_M,
+                    hold: float = RECOVER_HOLD_S):
+    """Seconds from a kidnapping at t_kidnap to the first estimate at or after it from which on
+    the position error stays under threshold to the end of the run (0 if it never left it); None
+    when the last error is not under it, or the run ends less than `hold` seconds after the
+    recovery (one lucky estimate at the end is no recovery). errors: (t, position error) pairs."""
+    after = sorted((t, e) for t, e in errors if t >= t_kidnap - 1e-9)
+    t_rec = None
+    for t, e in reversed(after):
+        if not (_finite(e) and e < threshold):
+            break
+        t_rec = t
+    if t_rec is None or after[-1][0] - t_rec < hold:
+        return None
+    return t_rec - t_kidnap
+
+
+def merge_rows(old_rows, new_rows, replaced):
+    """old_rows without those for which replaced(row) is true, then new_rows: a partial re-run
+    replaces its part of a CSV and keeps the rest."""
+    return [r for r in old_rows if not replaced(r)] + list(new_rows)
+
+
+def _typed(v: str):
+    for cast in (int, float):
+        try:
+            return cast(v)
+        except ValueError:
+            pass
+    return v
+
+
+def read_csv_typed(path: Path) -> list[dict]:
+    """Rows of a CSV written by write_csv, numbers back as int/float ("" stays a string)."""
+    if not Path(path).exists():
+        return []
+    with open(path, newline="") as f:
+        return [{k: _typed(v) for k, v in r.items()} for r in csv.DictReader(f)]
+
+
 # ----------------------------------------------------------------------------------------------
 # running the command line
 
@@ -236,9 +318,10 @@ class Runner:
         return d / "scene.yaml"
 
     def simulate(self, scene_yaml: Path, seed: int, duration: float = 0.0,
-                 people=None, range_sigma=None) -> Path:
+                 people=None, range_sigma=None, kidnap_at=None, kidnap_along=None) -> Path:
+        extra = [] if kidnap_at is None else [kidnap_at, kidnap_along]
         key = hashlib.sha256(json.dumps([Path(scene_yaml).read_text(), seed, duration, people,
-                                         range_sigma]).encode()).hexdigest()[:16]
+                                         range_sigma] + extra).encode()).hexdigest()[:16]
         d = self.work / "sims" / key
         with self._key_lock(str(d)):
             if not (d / "meta.json").exists():
@@ -247,6 +330,8 @@ class Runner:
                     args += ["--people", people]
                 if range_sigma is not None:
                     args += ["--range-sigma", range_sigma]
+                if kidnap_at is not None:
+                    args += ["--kidnap-at", kidnap_at, "--kidnap-along", kidnap_along]
                 self.run(args)
         return d
 
@@ -255,14 +340,14 @@ class Runner:
         model, glass_as = LOC_MODELS[variant]
         d = sim / f"loc-{variant}-p{particles}-b{beams}-s{seed}{'-fixed' if fixed_count else ''}"
         res = d / "result.json"
-        if res.exists():
+        if res.exists() and (d / "spread.csv").exists():
             return json.loads(res.read_text())
         d.mkdir(parents=True, exist_ok=True)
         t0, x0, y0, th0 = read_tum(sim / "groundtruth.tum")[0]
         args = ["localize", "--map", sim / "floorplan.gpkg", sim / "log.clf", "-o", d / "est.tum",
                 "--model", model, "--glass-as", glass_as, "--particles", particles,
                 "--beams", beams, "--init", f"{x0:.6f},{y0:.6f},{th0:.6f}", "--seed", seed,
-                "--json", d / "loc.json", "-q"]
+                "--json", d / "loc.json", "--spread", d / "spread.csv", "-q"]
         if fixed_count:
             args.append("--fixed-count")
         w0 = time.perf_counter()
@@ -274,7 +359,8 @@ class Runner:
         out = {"ate_rmse": ate.get("rmse"), "ate_max": ate.get("max"),
                "fraction_under": ate.get("fraction_under"),
                "ms_per_update": loc.get("ms_per_update"), "mean_particles": loc.get("mean_particles"),
-               "updates": loc.get("updates"), "seconds_wall": wall}
+               "updates": loc.get("updates"), "relocalizations": loc.get("relocalizations"),
+               "seconds_wall": wall}
         res.write_text(json.dumps(out))
         return out
 
@@ -322,7 +408,8 @@ def config(quick: bool, seeds: int | None):
                  methods=MAP_METHODS, resolutions=[0.1], stab_resolution=0.1,
                  stab_particles=300, stab_beams=15, fig8_seeds=1, fig8_duration=30.0,
                  axes=dict(range_sigma=[0.01, 0.1], pane_angle=[0, 60], thickness=[0.01, 0.05],
-                           people=[0, 10], odom_noise=[1, 20], odom_bias=[0.0, 0.1]))
+                           people=[0, 10], odom_noise=[1, 20], odom_bias=[0.0, 0.1], panes=[0, 6]),
+                 kidnap=dict(seeds=1, at=10.0, duration=35.0, distances=[1, 4], particles=300, beams=15))
     else:
         c = dict(seeds=3, loc_seeds=1, map_seeds=2, loc_scenes=["paper-corridor", "glass-corridor"],
                  map_scenes=["paper-corridor", "glass-corridor"],
@@ -336,7 +423,12 @@ def config(quick: bool, seeds: int | None):
                            thickness=[0.005, 0.02, 0.05, 0.1],
                            people=[0, 5, 10, 20],
                            odom_noise=[1, 10, 30, 100],
-                           odom_bias=[0.0, 0.05, 0.1, 0.2]))
+                           odom_bias=[0.0, 0.05, 0.1, 0.2],
+                           panes=[0, 1, 2, 4, 8, 12, 18]),
+                 # kidnapped at 15 s on the first leg of paper-corridor (x = 8.5 m, heading +x), carried
+                 # ahead along the path; 60 s to recover
+                 kidnap=dict(seeds=8, at=15.0, duration=75.0, distances=[0.5, 1, 2, 4, 8, 12],
+                             particles=500, beams=15))
     if seeds:
         c["seeds"] = c["loc_seeds"] = c["map_seeds"] = seeds
     return c
@@ -441,7 +533,9 @@ STAB_COLS = ["axis", "value", "task", "method", "trial", "sim_seed", "metric", "
 STAB_SUM_COLS = ["axis", "value", "task", "method", "n", "metric_mean", "success_rate", "breaks_at"]
 AXIS_LABEL = {"range_sigma": "laser range noise sigma [m]", "pane_angle": "pane angle to corridor [deg]",
               "thickness": "glass pane thickness [m]", "people": "people density [per 100 m^2]",
-              "odom_noise": "odometry noise (x scene default)", "odom_bias": "odometry scale bias"}
+              "odom_noise": "odometry noise (x scene default)", "odom_bias": "odometry scale bias",
+              "panes": "glass panes along the corridor (2 m each, of 18 slots)",
+              "kidnap": "kidnap distance along the trajectory [m]"}
 
 
 def _variant(R: Runner, axis, value):
@@ -468,12 +562,21 @@ def _variant(R: Runner, axis, value):
     if axis == "odom_bias":
         return R.scene(base, {"motion": {"odom_scale_bias": value,
                                          "odom_drift_deg_per_m": 10 * value}}), {}, ("loc",)
+    if axis == "panes":
+        # a corridor whose two walls are 2 m slots, `value` of them glass; no glass, no glass F1
+        mods = {"name": f"panes-{value}", "trajectory": {"waypoints": [[1, 1.5], [19, 1.5]],
+                                                       "round_trip": True}}
+        return (R.scene(base, mods, floorplan=panes_corridor_geojson(value)), {},
+                ("loc", "map") if value > 0 else ("loc",))
     raise ValueError(axis)
 
 
-def section_stability(R: Runner, c, base, out: Path):
+def section_stability(R: Runner, c, base, out: Path, only=None):
+    """Runs the axes in `only` (default all); the other axes' rows are kept from OUT's CSVs."""
+    run_axes = [a for a in c["axes"] if only is None or a in only]
     jobs, sims = [], {}
-    for axis, values in c["axes"].items():
+    for axis in run_axes:
+        values = c["axes"][axis]
         for v in values:
             yml, kw, tasks = _variant(R, axis, v)
             for trial, sseed, lseed in trial_seeds(base, "stability", c["seeds"]):
@@ -499,9 +602,12 @@ def section_stability(R: Runner, c, base, out: Path):
         return dict(axis=axis, value=v, task=task, method=m, trial=trial, sim_seed=sseed,
                     metric=metric, success=int(ok))
     rows = R.pmap(one, jobs)
-    write_csv(out / "stability.csv", rows, STAB_COLS)
+    replaced = lambda r: r["axis"] in run_axes or r["axis"] not in c["axes"]   # noqa: E731
+    write_csv(out / "stability.csv",
+              merge_rows(read_csv_typed(out / "stability.csv") if only else [], rows, replaced), STAB_COLS)
     summ = []
-    for axis, values in c["axes"].items():
+    for axis in run_axes:
+        values = c["axes"][axis]
         for task in ("loc", "map"):
             for m in (c["models"] if task == "loc" else c["methods"]):
                 rates, block = [], []
@@ -518,8 +624,24 @@ def section_stability(R: Runner, c, base, out: Path):
                 for b in block:
                     b["breaks_at"] = "" if bv is None else bv
                 summ += block
+    if only:
+        summ = merge_rows(read_csv_typed(out / "stability_summary.csv"), summ, replaced)
+        order = list(c["axes"])
+        summ.sort(key=lambda r: order.index(r["axis"]) if r["axis"] in order else len(order))
     write_csv(out / "stability_summary.csv", summ, STAB_SUM_COLS)
     return summ
+
+
+FIG8_COLS = ["model", "trial", "sim_seed", "t", "position_error", "spread_m"]
+
+
+def read_spread(path: Path) -> dict:
+    """t (rounded to ms) -> particle spread [m] from `glassmap localize --spread`."""
+    out = {}
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            out[round(float(r["t"]), 3)] = float(r["spread_m"])
+    return out
 
 
 def section_fig8(R: Runner, c, base, out: Path):
@@ -530,12 +652,66 @@ def section_fig8(R: Runner, c, base, out: Path):
         for m in ("beam-opaque", "glass"):
             R.localize(sim, m, c["stab_particles"], c["stab_beams"], lseed)
             d = sim / f"loc-{m}-p{c['stab_particles']}-b{c['stab_beams']}-s{lseed}-fixed"
+            spread = read_spread(d / "spread.csv")
             for t, e in errors_along(truth, read_tum(d / "est.tum")):
                 if round(t * 10) % 5:          # every 0.5 s keeps the CSV and SVG small
                     continue
-                rows.append(dict(model=m, trial=trial, sim_seed=sseed, t=t, position_error=e))
-    write_csv(out / "fig8.csv", rows, ["model", "trial", "sim_seed", "t", "position_error"])
+                rows.append(dict(model=m, trial=trial, sim_seed=sseed, t=t, position_error=e,
+                                 spread_m=spread.get(round(t, 3), float("nan"))))
+    write_csv(out / "fig8.csv", rows, FIG8_COLS)
     return rows
+
+
+KID_COLS = ["distance", "model", "trial", "sim_seed", "loc_seed", "kidnap_time", "jump_m",
+            "error_before_max", "recovered", "time_to_recover", "relocalizations", "ate_rmse"]
+KID_SUM_COLS = ["distance", "model", "n", "success_rate", "median_time_to_recover", "breaks_at"]
+
+
+def section_kidnap(R: Runner, c, base, out: Path):
+    """Kidnapping on paper-corridor: the robot is carried `distance` metres ahead along its path
+    at k["at"] seconds without odometry; success = recovered (time_to_recover) within the run."""
+    k = c["kidnap"]
+    jobs, sims = [], {}
+    for dist in k["distances"]:
+        for trial, sseed, lseed in trial_seeds(base, "kidnap", k["seeds"]):
+            sims[(dist, sseed)] = None
+            for m in c["models"]:
+                jobs.append((dist, m, trial, sseed, lseed))
+    for key, d in zip(list(sims), R.pmap(lambda key: R.simulate(
+            scene_yaml("paper-corridor"), key[1], k["duration"], kidnap_at=k["at"], kidnap_along=key[0]),
+            list(sims))):
+        sims[key] = d
+
+    def one(j):
+        dist, m, trial, sseed, lseed = j
+        sim = sims[(dist, sseed)]
+        r = R.localize(sim, m, k["particles"], k["beams"], lseed)
+        ev = json.loads((sim / "meta.json").read_text())["kidnap"]
+        d = sim / f"loc-{m}-p{k['particles']}-b{k['beams']}-s{lseed}-fixed"
+        errs = errors_along(read_tum(sim / "groundtruth.tum"), read_tum(d / "est.tum"))
+        ttr = time_to_recover(errs, ev["time"])
+        return dict(distance=dist, model=m, trial=trial, sim_seed=sseed, loc_seed=lseed,
+                    kidnap_time=ev["time"], jump_m=ev["distance_m"],
+                    error_before_max=max((e for t, e in errs if t < ev["time"]), default=float("nan")),
+                    recovered=int(ttr is not None), time_to_recover="" if ttr is None else ttr,
+                    relocalizations=r.get("relocalizations"), ate_rmse=r["ate_rmse"])
+    rows = R.pmap(one, jobs)
+    write_csv(out / "kidnap.csv", rows, KID_COLS)
+    summ = []
+    for m in c["models"]:
+        block = []
+        for dist in k["distances"]:
+            rs = [r for r in rows if (r["distance"], r["model"]) == (dist, m)]
+            block.append(dict(distance=dist, model=m, n=len(rs),
+                              success_rate=success_rate(r["recovered"] for r in rs),
+                              median_time_to_recover=median(r["time_to_recover"] for r in rs
+                                                            if r["recovered"])))
+        bv = break_value([b["distance"] for b in block], [b["success_rate"] for b in block])
+        for b in block:
+            b["breaks_at"] = "" if bv is None else bv
+        summ += block
+    write_csv(out / "kidnap_summary.csv", summ, KID_SUM_COLS)
+    return summ
 
 
 def recommendations(loc_summ, map_summ, out: Path):
@@ -591,7 +767,20 @@ def _save(plt, fig, out: Path, name: str):
     plt.close(fig)
 
 
-def charts(out: Path, loc_summ, map_summ, stab_summ, fig8_rows, c):
+def chart_names(c) -> list[str]:
+    """Every chart the driver can draw, in the order of the results page."""
+    return (["loc_tradeoff", "map_tradeoff"] + [f"stability_{a}" for a in c["axes"]]
+            + ["stability_kidnap", "fig8_paper_corridor"])
+
+
+def _break_marks(ax, xs, bv, color, off):
+    if bv != "":
+        ax.axvline(bv, color=color, ls="--", lw=0.8)
+        ax.plot([bv], [BREAK_RATE + off], marker="x", color=color, ms=8)
+
+
+def charts(out: Path, loc_summ, map_summ, stab_summ, fig8_rows, c, kid_summ=(), stab_axes=None):
+    """Draws the charts of the summaries given; stability charts for stab_axes (default all)."""
     plt = _plt()
     if plt is None:
         return []
@@ -641,6 +830,8 @@ def charts(out: Path, loc_summ, map_summ, stab_summ, fig8_rows, c):
         axs[0].legend(fontsize=6); fig.suptitle("mapping: accuracy against time")
         _save(plt, fig, out, "map_tradeoff"); made.append("map_tradeoff")
     for axis in c["axes"]:
+        if stab_axes is not None and axis not in stab_axes:
+            continue
         rs = [r for r in stab_summ if r["axis"] == axis]
         if not rs:
             continue
@@ -656,28 +847,55 @@ def charts(out: Path, loc_summ, map_summ, stab_summ, fig8_rows, c):
                 xs, ys = [r["value"] for r in mr], [r["success_rate"] for r in mr]
                 off = (i - (len(methods) - 1) / 2) * 0.012
                 ax.plot(xs, [y + off for y in ys], marker="o", ms=3, color=COLORS[m], label=m)
-                bv = mr[0]["breaks_at"]
-                if bv != "":
-                    ax.axvline(bv, color=COLORS[m], ls="--", lw=0.8)
-                    ax.plot([bv], [BREAK_RATE + off], marker="x", color=COLORS[m], ms=8)
+                _break_marks(ax, xs, mr[0]["breaks_at"], COLORS[m], off)
             ax.set_ylim(-0.05, 1.05); ax.set_xlabel(AXIS_LABEL[axis])
             ax.set_ylabel("success rate (ATE < 0.2 m)" if task == "loc" else "success rate (glass F1 > 0.8)")
             ax.set_title(("localization" if task == "loc" else "mapping") + ": dashed = breaks")
             ax.legend(fontsize=6)
         _save(plt, fig, out, f"stability_{axis}"); made.append(f"stability_{axis}")
+    if kid_summ:
+        fig, axs = plt.subplots(1, 2, figsize=(9.2, 3.3))
+        models = [m for m in c["models"] if any(r["model"] == m for r in kid_summ)]
+        for i, m in enumerate(models):
+            mr = [r for r in kid_summ if r["model"] == m]
+            xs = [r["distance"] for r in mr]
+            off = (i - (len(models) - 1) / 2) * 0.012
+            axs[0].plot(xs, [r["success_rate"] + off for r in mr], marker="o", ms=3, color=COLORS[m], label=m)
+            _break_marks(axs[0], xs, mr[0]["breaks_at"], COLORS[m], off)
+            axs[1].plot(xs, [r["median_time_to_recover"] for r in mr], marker="o", ms=3, color=COLORS[m],
+                        label=m)
+        k = c["kidnap"]
+        for ax in axs:
+            ax.set_xscale("log"); ax.set_xlabel(AXIS_LABEL["kidnap"])
+            ax.set_xticks(k["distances"]); ax.set_xticklabels([f"{d:g}" for d in k["distances"]])
+            ax.minorticks_off()
+        axs[0].set_ylim(-0.05, 1.05)
+        axs[0].set_ylabel(f"recovered (error < {SUCCESS_ATE_M} m for good, >= {RECOVER_HOLD_S:g} s left)")
+        axs[0].set_title("kidnapping: success rate, dashed = breaks")
+        axs[1].set_ylabel("time to recover [s] (median of recovered runs)")
+        axs[1].set_title(f"paper-corridor, kidnapped at {k['at']:g} s, {k['particles']} particles")
+        axs[0].legend(fontsize=6)
+        _save(plt, fig, out, "stability_kidnap"); made.append("stability_kidnap")
     if fig8_rows:
-        fig, ax = plt.subplots(figsize=(7, 3))
+        fig, axs = plt.subplots(2, 1, figsize=(7, 4.6), sharex=True)
+        n = len({r["trial"] for r in fig8_rows})
         for m, col, lab in (("beam-opaque", "red", "without glass model (beam, glass opaque)"),
                             ("glass", "green", "with glass model")):
-            pts = {}
-            for r in fig8_rows:
-                if r["model"] == m:
-                    pts.setdefault(round(r["t"], 3), []).append(r["position_error"])
-            ts = sorted(pts)
-            ax.plot(ts, [mean(pts[t]) for t in ts], color=col, lw=0.9, label=lab)
-        ax.set_xlabel("time [s]"); ax.set_ylabel("position error [m] (mean over seeds)")
-        ax.set_title("paper Fig. 8 redrawn on paper-corridor (particle spread not exported by the CLI)")
-        ax.legend(fontsize=7)
+            for ax, key in zip(axs, ("position_error", "spread_m")):
+                pts = {}
+                for r in fig8_rows:
+                    if r["model"] == m and _finite(r[key]):
+                        pts.setdefault(round(r["t"], 3), []).append(r[key])
+                ts = sorted(pts)
+                ax.plot(ts, [max(mean(pts[t]), 1e-4) for t in ts], color=col, lw=0.9, label=lab)
+        axs[0].set_ylabel("position error [m]"); axs[1].set_ylabel("particle spread [m]")
+        for ax in axs:
+            ax.set_yscale("log")
+        axs[1].set_xlabel("time [s]")
+        axs[0].set_title(f"paper Fig. 8 redrawn on paper-corridor ({c['stab_particles']} particles, "
+                         f"{c['stab_beams']} beams; mean over {n} seed(s))")
+        axs[0].axhline(SUCCESS_ATE_M, color="grey", ls=":", lw=0.8)
+        axs[0].legend(fontsize=7)
         _save(plt, fig, out, "fig8_paper_corridor"); made.append("fig8_paper_corridor")
     return made
 
@@ -689,8 +907,8 @@ def _f(x, nd=3):
     return "n/a" if not _finite(x) else f"{float(x):.{nd}f}"
 
 
-def report(out: Path, loc_summ, map_summ, stab_summ, recs, made, c, cmdline):
-    L = [f"<!-- written by tools/bench/sweep.py; command: {cmdline} -->", "# Bench results", ""]
+def report(out: Path, loc_summ, map_summ, stab_summ, recs, made, c, cmdline, kid_summ=()):
+    L = [f"<!-- written by tools/bench/sweep.py; last command: {cmdline} (sections it did not run: read back from the CSVs) -->", "# Bench results", ""]
     if loc_summ:
         L += ["## Localization (ATE RMSE [m] / time per update [ms], tracking from the true start pose, "
               "fixed particle count)", ""]
@@ -738,6 +956,22 @@ def report(out: Path, loc_summ, map_summ, stab_summ, recs, made, c, cmdline):
                     L.append(f"| {AXIS_LABEL[axis]} = {', '.join(str(v) for v in values)} | {task} | "
                              + "; ".join(parts) + " |")
         L.append("")
+    if kid_summ:
+        k = c["kidnap"]
+        L += [f"## Kidnapping (paper-corridor, carried ahead along the path at {k['at']:g} s without "
+              f"odometry; {k['particles']} particles, {k['beams']} beams; recovered: the position error "
+              f"stays under {SUCCESS_ATE_M} m to the end of the run, >= {RECOVER_HOLD_S:g} s after)", "",
+              "| model | " + " | ".join(f"{d:g} m" for d in k["distances"]) + " | breaks at |",
+              "|---" * (2 + len(k["distances"])) + "|"]
+        for m in c["models"]:
+            mr = {r["distance"]: r for r in kid_summ if r["model"] == m}
+            if not mr:
+                continue
+            cells = [f"{_f(mr[d]['success_rate'], 2)} / {_f(mr[d]['median_time_to_recover'], 1)} s"
+                     if d in mr else "-" for d in k["distances"]]
+            bv = next(iter(mr.values()))["breaks_at"]
+            L.append(f"| {m} | " + " | ".join(cells) + f" | {'no break' if bv == '' else f'{bv} m'} |")
+        L += ["", f"Cells: success rate / median time to recover (n = {kid_summ[0]['n']} seeds per cell).", ""]
     if recs:
         L += ["## Cheapest setting within 10% of the best accuracy", "",
               "| scene | task | best | best accuracy | cheapest within 10% | its accuracy | cost (best -> cheapest) |",
@@ -765,8 +999,13 @@ def main(argv=None):
     ap.add_argument("--stability-seeds", type=int, default=None,
                     help="override the number of seeds of the stability sweeps and Fig. 8 only")
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--sections", default="loc,map,stability,fig8",
-                    help="comma list of loc,map,stability,fig8")
+    ap.add_argument("--sections", default="loc,map,stability,kidnap,fig8",
+                    help="comma list of loc,map,stability,kidnap,fig8; the CSVs of the sections not run "
+                         "are read back from OUT for RESULTS.md (their charts are left alone)")
+    ap.add_argument("--axes", default=None,
+                    help="stability: run only these comma-separated quantities (of "
+                         "range_sigma,pane_angle,thickness,people,odom_noise,odom_bias,panes); the other "
+                         "quantities' rows are kept from OUT's stability CSVs")
     ap.add_argument("--no-charts", action="store_true")
     a = ap.parse_args(argv)
     out = a.out or (REPO / ("build-bench-quick" if a.quick else "docs/results"))
@@ -775,22 +1014,36 @@ def main(argv=None):
     c = config(a.quick, a.seeds)
     if a.stability_seeds:
         c["seeds"] = c["fig8_seeds"] = a.stability_seeds
-    R = Runner(a.glassmap, work, a.jobs)
     secs = set(a.sections.split(","))
+    unknown = secs - {"loc", "map", "stability", "kidnap", "fig8"}
+    axes = None if a.axes is None else a.axes.split(",")
+    if unknown or (axes and set(axes) - set(c["axes"])):
+        ap.error(f"unknown section or axis: {', '.join(sorted(unknown | set(axes or []) - set(c['axes'])))}")
+    R = Runner(a.glassmap, work, a.jobs)
     t0 = time.time()
-    loc_summ = map_summ = stab_summ = fig8 = []
-    if "loc" in secs:
-        loc_summ = section_loc(R, c, a.base_seed, out); print(f"[bench] loc grid done {time.time()-t0:.0f}s", flush=True)
-    if "map" in secs:
-        map_summ = section_map(R, c, a.base_seed, out); print(f"[bench] map grid done {time.time()-t0:.0f}s", flush=True)
-    if "stability" in secs:
-        stab_summ = section_stability(R, c, a.base_seed, out); print(f"[bench] stability done {time.time()-t0:.0f}s", flush=True)
-    if "fig8" in secs:
-        fig8 = section_fig8(R, c, a.base_seed, out); print(f"[bench] fig8 done {time.time()-t0:.0f}s", flush=True)
-    recs = recommendations(loc_summ, map_summ, out) if (loc_summ or map_summ) else []
-    made = [] if a.no_charts else charts(out, loc_summ, map_summ, stab_summ, fig8, c)
-    report(out, loc_summ, map_summ, stab_summ, recs, made, c,
-           "tools/bench.sh " + " ".join(x for x in (argv if argv is not None else sys.argv[1:])))
+    typed = lambda name: read_csv_typed(out / name)   # noqa: E731  (sections not run)
+    loc_summ = section_loc(R, c, a.base_seed, out) if "loc" in secs else typed("loc_summary.csv")
+    print(f"[bench] loc {'done' if 'loc' in secs else 'read back'} {time.time()-t0:.0f}s", flush=True)
+    map_summ = section_map(R, c, a.base_seed, out) if "map" in secs else typed("map_summary.csv")
+    print(f"[bench] map {'done' if 'map' in secs else 'read back'} {time.time()-t0:.0f}s", flush=True)
+    stab_summ = (section_stability(R, c, a.base_seed, out, axes) if "stability" in secs
+                 else typed("stability_summary.csv"))
+    print(f"[bench] stability {'done' if 'stability' in secs else 'read back'} {time.time()-t0:.0f}s", flush=True)
+    kid_summ = section_kidnap(R, c, a.base_seed, out) if "kidnap" in secs else typed("kidnap_summary.csv")
+    print(f"[bench] kidnap {'done' if 'kidnap' in secs else 'read back'} {time.time()-t0:.0f}s", flush=True)
+    fig8 = section_fig8(R, c, a.base_seed, out) if "fig8" in secs else typed("fig8.csv")
+    print(f"[bench] fig8 {'done' if 'fig8' in secs else 'read back'} {time.time()-t0:.0f}s", flush=True)
+    if "loc" in secs or "map" in secs:
+        recs = recommendations(loc_summ, map_summ, out)
+    else:
+        recs = typed("recommendations.csv")
+    made = [] if a.no_charts else charts(
+        out, loc_summ if "loc" in secs else [], map_summ if "map" in secs else [],
+        stab_summ if "stability" in secs else [], fig8 if "fig8" in secs else [], c,
+        kid_summ if "kidnap" in secs else [], axes)
+    shown = [n for n in chart_names(c) if (out / f"{n}.png").exists()]
+    report(out, loc_summ, map_summ, stab_summ, recs, shown, c,
+           "tools/bench.sh " + " ".join(x for x in (argv if argv is not None else sys.argv[1:])), kid_summ)
     print(f"[bench] {R.nruns} glassmap runs, {time.time()-t0:.0f}s; wrote {out} (charts: {', '.join(made) or 'none'})")
     return 0
 
