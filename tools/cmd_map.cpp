@@ -10,6 +10,7 @@
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/glass/mapping.hpp"
+#include "glassmap/glass/phantoms.hpp"
 #include "glassmap/glass/render.hpp"
 #include "glassmap/io/carmen.hpp"
 #include "glassmap/io/labels_raster.hpp"
@@ -31,6 +32,8 @@ struct MapArgs {
   int laser_id = 0;
   bool quiet = false;
   bool vectorize = true;
+  bool phantoms = true;
+  glass::PhantomOptions phantom;
   double max_memory_mb = 4096.0;
   glass::MappingOptions options;
   mrf::RefineOptions mrf;
@@ -80,6 +83,9 @@ nlohmann::json optionsJson(const MapArgs& a) {
             {"p_hit_emp", d.p_hit_emp}, {"occ_hit_floor", d.occ_hit_floor}, {"prior_glass", d.prior_glass},
             {"prior_occupied", d.prior_occupied}, {"min_glass_hits", d.min_glass_hits},
             {"search_cells", d.search_cells}}},
+          {"phantoms",
+           {{"enabled", a.phantoms}, {"glass_margin", a.phantom.glass_margin},
+            {"block_margin", a.phantom.block_margin}, {"min_folded_fraction", a.phantom.min_folded_fraction}}},
           {"mrf",
            {{"solver", a.mrf.solver}, {"psi", a.mrf.psi}, {"unary_weight", a.mrf.unary_weight},
             {"tile", a.mrf.tile}, {"sweeps", a.mrf.sweeps}}},
@@ -116,6 +122,16 @@ void run(MapArgs& args) {
     result.stats.glass_cells = result.evidence.countGlass();
     result.stats.occupied_cells = result.evidence.countOccupied();
   }
+  glass::PhantomStats phantom;
+  double seconds_phantoms = 0.0;
+  if (args.phantoms) {
+    if (show_progress) std::cerr << "mirror phantoms...\n";
+    const auto tp = std::chrono::steady_clock::now();
+    phantom = glass::suppressMirrorPhantoms(log, args.options.beams, args.phantom, result.evidence);
+    seconds_phantoms = std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
+    result.stats.glass_cells = result.evidence.countGlass();
+    result.stats.occupied_cells = result.evidence.countOccupied();
+  }
   const glass::CellEvidence& e = result.evidence;
   vector::VectorizeResult floorplan;
   if (args.vectorize) {
@@ -149,10 +165,14 @@ void run(MapArgs& args) {
                       {"bytes_per_observed_cell", st.bytes_per_observed_cell},
                       {"seconds", {{"read", seconds_read}, {"counts", st.seconds_counts},
                                    {"angles", st.seconds_angles}, {"classify", st.seconds_classify},
-                                   {"mrf", refined.seconds}, {"vectorize", floorplan.stats.seconds},
+                                   {"mrf", refined.seconds}, {"phantoms", seconds_phantoms},
+                                   {"vectorize", floorplan.stats.seconds},
                                    {"total", seconds}}},
                       {"mrf_changed_cells", refined.changed},
                       {"mrf_energy", {{"before", refined.energy_before}, {"after", refined.energy_after}}},
+                      {"mirror_phantoms", {{"beams_through_glass", phantom.beams_through_glass},
+                                           {"folded_beams", phantom.folded_beams},
+                                           {"cells_cleared", phantom.cells_cleared}}},
                       {"glass_segments", floorplan.map.count(Material::Glass)},
                       {"wall_segments", floorplan.map.count(Material::Wall)},
                       {"peak_memory_bytes", peak},
@@ -173,12 +193,16 @@ void run(MapArgs& args) {
     std::printf("%-22s %zu\n", "glass cells", st.glass_cells);
     std::printf("%-22s %.1f\n", "state bytes/cell", st.bytes_per_observed_cell);
     if (use_mrf) std::printf("%-22s %zu cells changed\n", "mrf", refined.changed);
+    if (args.phantoms)
+      std::printf("%-22s %zu cells cleared (%zu of %zu beams through glass folded)\n", "mirror phantoms",
+                  phantom.cells_cleared, phantom.folded_beams, phantom.beams_through_glass);
     if (args.vectorize)
       std::printf("%-22s %zu glass, %zu wall\n", "segments", floorplan.map.count(Material::Glass),
                   floorplan.map.count(Material::Wall));
-    std::printf("%-22s %.2f (read %.2f, counts %.2f, angles %.2f, classify %.2f, mrf %.2f, vectorize %.2f)\n",
-                "seconds", seconds, seconds_read, st.seconds_counts, st.seconds_angles, st.seconds_classify,
-                refined.seconds, floorplan.stats.seconds);
+    std::printf(
+        "%-22s %.2f (read %.2f, counts %.2f, angles %.2f, classify %.2f, mrf %.2f, phantoms %.2f, vectorize %.2f)\n",
+        "seconds", seconds, seconds_read, st.seconds_counts, st.seconds_angles, st.seconds_classify, refined.seconds,
+        seconds_phantoms, floorplan.stats.seconds);
     std::printf("%-22s %.1f MB\n", "peak memory", static_cast<double>(peak) / 1e6);
     std::printf("%-22s %s/{map.yaml,map.pgm,labels.tif,map.png,stats.json%s}\n", "wrote", dir.string().c_str(),
                 args.vectorize ? ",floorplan.{gpkg,geojson,dxf,svg,png}" : "");
@@ -207,6 +231,17 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_option("--mrf-weight", args->mrf.unary_weight, "mrf: weight of the -log posteriors against Psi")
       ->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("!--no-vector", args->vectorize, "skip the vector floorplan");
+  cmd->add_flag("!--keep-phantoms", args->phantoms,
+                "keep mirror phantoms: by default, wall and glass cells whose returns mostly ran straight\n"
+                "through a pane and then through a wall (impossible unless the pane folded the beam) become unknown");
+  cmd->add_option("--phantom-fraction", args->phantom.min_folded_fraction,
+                  "share of a cell's returns that must be folded for it to count as a mirror phantom")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--phantom-margin", args->phantom.block_margin,
+                  "the wall behind the pane must lie at least this far before the reading [m]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--resolution", o.resolution, "cell size [m]")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--max-memory", args->max_memory_mb,
                   "refuse up front a grid whose dense layers would need more than this [MB]")

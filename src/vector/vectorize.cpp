@@ -613,6 +613,54 @@ void snapCorners(std::vector<Piece>& glass, std::vector<Piece>& walls, const Con
   }
 }
 
+// A wall seen from one side: cells beyond its surface get hits from beams whose pose or range error
+// carried them past it, and few beams pass there to clear them, so the band of wall cells spreads
+// away from the observer (by the pose's heading error times the range: tens of cm at 20 m). The
+// surface is where observed free space ends: the line moves to the median offset of the cells that
+// touch free space on the free side. Walls with free space on both sides keep their centre line.
+void alignOneSidedWalls(std::vector<Piece>& walls, const CellCloud& cloud, const Context& ctx) {
+  const LabelGrid& grid = ctx.grid;
+  const double res = grid.resolution;
+  const auto freeAt = [&](const Vec2& p) {
+    const int x = static_cast<int>(std::floor((p.x() - grid.origin.x()) / res));
+    const int y = static_cast<int>(std::floor((p.y() - grid.origin.y()) / res));
+    return x >= 0 && y >= 0 && x < grid.width && y < grid.height && grid.code(x, y) == kCodeEmpty;
+  };
+  for (Piece& p : walls) {
+    const Vec2 n = p.normal();
+    // Free samples on each side, just beyond the band: 3 depths x up to 16 stations along the wall.
+    int free_pos = 0, free_neg = 0;
+    const int stations = std::clamp(static_cast<int>(p.length() / res), 2, 16);
+    const double half = 0.5 * p.thickness;
+    for (int k = 0; k < stations; ++k) {
+      const Vec2 on = p.c + (p.t0 + (p.t1 - p.t0) * (k + 0.5) / stations) * p.d;
+      for (int depth = 1; depth <= 3; ++depth) {
+        const double off = half + depth * res;
+        free_pos += freeAt(on + off * n);
+        free_neg += freeAt(on - off * n);
+      }
+    }
+    const int hi = std::max(free_pos, free_neg), lo = std::min(free_pos, free_neg);
+    if (hi < stations || 4 * lo > hi) continue;  // unseen, or free on both sides
+    const Vec2 toward_free = free_pos > free_neg ? n : Vec2(-n);
+    // Offsets (toward free space) of the piece's cells that touch free space on that side.
+    std::vector<double> offsets;
+    for (const std::uint32_t i : p.ids) {
+      const Vec2& q = cloud.points[i];
+      if (freeAt(q + res * toward_free) || freeAt(q + res * toward_free + 0.5 * res * p.d) ||
+          freeAt(q + res * toward_free - 0.5 * res * p.d))
+        offsets.push_back(toward_free.dot(q - p.c));
+    }
+    if (offsets.size() < 3) continue;
+    auto mid = offsets.begin() + static_cast<std::ptrdiff_t>(offsets.size() / 2);
+    std::nth_element(offsets.begin(), mid, offsets.end());
+    const double shift = *mid;
+    if (std::abs(shift) < 0.25 * res || std::abs(shift) > p.thickness) continue;
+    p.c += shift * toward_free;
+    ++ctx.stats.face_aligned;
+  }
+}
+
 MapSegment toSegment(const Piece& p, Material material, const CellCloud& cloud, const LabelGrid& grid,
                      const MaterialOptions& mo) {
   MapSegment s;
@@ -648,6 +696,7 @@ VectorizeResult vectorize(const LabelGrid& grid, const VectorizeOptions& options
   if (options.glass_segments) glass = fitMaterial(glass_cloud, Material::Glass, options.glass, ctx);
   if (options.walls) walls = fitMaterial(wall_cloud, Material::Wall, options.wall, ctx);
 
+  if (options.face_align) alignOneSidedWalls(walls, wall_cloud, ctx);
   if (options.regularize && !walls.empty()) {
     const double axis = dominantAxis(walls);
     stats.dominant_axis_deg = rad2deg(std::fmod(axis + kPi, 0.5 * kPi));

@@ -43,6 +43,8 @@ struct VectorizeOptions {
   double params_per_segment = 4.0;   ///< BIC: free parameters of one segment (line + extent)
   double max_wall_thickness = 0.35;  ///< two parallel wall faces closer than this become one wall [m]
   double corner_snap = 0.35;         ///< wall ends this close to another wall's line are joined [m]
+  bool face_align = true;            ///< a wall seen from one side only lies on its observed face (the
+                                     ///< edge of free space), not in the middle of its blurred band
   bool regularize = true;            ///< snap near-axis segments to the dominant axes
   double regularize_angle_deg = 3.0; ///< ... when within this of an axis [deg]; angled glass stays
   bool walls = true;                 ///< fit walls
@@ -59,6 +61,7 @@ struct VectorizeStats {
   std::size_t bic_splits = 0;      ///< pieces split by the criterion
   std::size_t merges = 0;          ///< collinear merges accepted
   std::size_t face_merges = 0;     ///< wall face pairs merged into a centre line
+  std::size_t face_aligned = 0;    ///< one-sided walls moved onto their observed face
   std::size_t regularized = 0;     ///< segments rotated onto an axis
   std::size_t corners = 0;         ///< segment ends moved to close a corner or T
   std::size_t dropped = 0;         ///< pieces dropped (too short, too few cells, blob)

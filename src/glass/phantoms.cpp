@@ -1,0 +1,92 @@
+#include "glassmap/glass/phantoms.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "glassmap/grid/traversal.hpp"
+
+namespace glassmap::glass {
+
+namespace {
+
+// Unit normal of the wall through cell (cx, cy): minor axis of the occupied cells within 3 cells.
+// False when too few cells make a line (a speck, not a wall).
+bool wallNormal(const CellEvidence& e, int cx, int cy, Vec2& normal) {
+  const grid::GridGeometry& g = e.geometry;
+  constexpr int kR = 3;
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+  for (int dy = -kR; dy <= kR; ++dy)
+    for (int dx = -kR; dx <= kR; ++dx) {
+      const int x = cx + dx, y = cy + dy;
+      if (!g.contains(x, y) || e.label[g.index(x, y)] != kOccupied) continue;
+      n += 1;
+      sx += dx;
+      sy += dy;
+      sxx += dx * dx;
+      sxy += dx * dy;
+      syy += dy * dy;
+    }
+  if (n < 4) return false;
+  const double mx = sx / n, my = sy / n;
+  const double cxx = sxx / n - mx * mx, cxy = sxy / n - mx * my, cyy = syy / n - my * my;
+  const double angle = 0.5 * std::atan2(2.0 * cxy, cxx - cyy);  // direction of the major axis
+  normal = Vec2(-std::sin(angle), std::cos(angle));
+  return true;
+}
+
+}  // namespace
+
+PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions& beams,
+                                    const PhantomOptions& options, CellEvidence& e) {
+  PhantomStats stats;
+  if (e.countGlass() == 0 || e.cells.empty()) return stats;
+  const grid::GridGeometry& g = e.geometry;
+  std::vector<std::uint32_t> returns(e.cells.size(), 0), folded(e.cells.size(), 0);
+  for (const LaserScan& scan : log.scans) {
+    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
+      if (!beam.hit) return;
+      const grid::CellIndex end = g.cellAt(beam.to);
+      if (!g.contains(end)) return;
+      const std::int64_t c = e.candidate(static_cast<std::uint32_t>(g.index(end)));
+      if (c < 0) return;
+      ++returns[static_cast<std::size_t>(c)];
+      const double glass_until = beam.range - options.glass_margin;
+      const double block_until = beam.range - options.block_margin;
+      bool through_glass = false, is_folded = false;
+      grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool) {
+        const double d = t * beam.range;
+        if (d >= glass_until) return false;
+        const int l = e.label[static_cast<std::size_t>(y) * static_cast<std::size_t>(g.width) +
+                              static_cast<std::size_t>(x)];
+        if (isGlass(l)) {
+          through_glass = true;
+        } else if (through_glass && l == kOccupied && d < block_until) {
+          // Blocked only if the reading lies well beyond the wall's line, not just further along
+          // a wall the beam grazes (a pane's frame, a corner).
+          Vec2 n;
+          const Vec2 centre = g.origin + (Vec2(x, y) + Vec2(0.5, 0.5)) * g.resolution;
+          if (wallNormal(e, x, y, n) && std::abs(n.dot(beam.to - centre)) >= options.block_margin) {
+            is_folded = true;
+            return false;
+          }
+        }
+        return true;
+      });
+      stats.beams_through_glass += through_glass;
+      stats.folded_beams += is_folded;
+      folded[static_cast<std::size_t>(c)] += is_folded;
+    });
+  }
+  for (std::size_t i = 0; i < e.cells.size(); ++i) {
+    if (folded[i] == 0) continue;
+    std::uint8_t& l = e.label[e.cells[i]];
+    if (l == kEmpty || l == kUnknown) continue;
+    if (static_cast<double>(folded[i]) < options.min_folded_fraction * static_cast<double>(returns[i])) continue;
+    l = kUnknown;
+    ++stats.cells_cleared;
+  }
+  return stats;
+}
+
+}  // namespace glassmap::glass
