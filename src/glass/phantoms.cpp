@@ -4,6 +4,10 @@
 #include <cmath>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include "glassmap/grid/traversal.hpp"
 
 namespace glassmap::glass {
@@ -42,41 +46,88 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
   PhantomStats stats;
   if (e.countGlass() == 0 || e.cells.empty()) return stats;
   const grid::GridGeometry& g = e.geometry;
-  std::vector<std::uint32_t> returns(e.cells.size(), 0), folded(e.cells.size(), 0);
-  for (const LaserScan& scan : log.scans) {
-    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (!beam.hit) return;
-      const grid::CellIndex end = g.cellAt(beam.to);
-      if (!g.contains(end)) return;
-      const std::int64_t c = e.candidate(static_cast<std::uint32_t>(g.index(end)));
-      if (c < 0) return;
-      ++returns[static_cast<std::size_t>(c)];
-      const double glass_until = beam.range - options.glass_margin;
-      const double block_until = beam.range - options.block_margin;
-      bool through_glass = false, is_folded = false;
-      grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool) {
-        const double d = t * beam.range;
-        if (d >= glass_until) return false;
-        const int l = e.label[static_cast<std::size_t>(y) * static_cast<std::size_t>(g.width) +
-                              static_cast<std::size_t>(x)];
-        if (isGlass(l)) {
-          through_glass = true;
-        } else if (through_glass && l == kOccupied && d < block_until) {
-          // Blocked only if the reading lies well beyond the wall's line, not just further along
-          // a wall the beam grazes (a pane's frame, a corner).
-          Vec2 n;
-          const Vec2 centre = g.origin + (Vec2(x, y) + Vec2(0.5, 0.5)) * g.resolution;
-          if (wallNormal(e, x, y, n) && std::abs(n.dot(beam.to - centre)) >= options.block_margin) {
-            is_folded = true;
-            return false;
+
+  // Tiles of kTile x kTile cells that hold glass (grown by one tile against rounding): a beam
+  // whose coarse walk meets none of them cannot cross a pane, and most beams of a floor never do.
+  constexpr int kTile = 16;
+  grid::GridGeometry coarse;
+  coarse.resolution = g.resolution * kTile;
+  coarse.origin = g.origin;
+  coarse.width = (g.width + kTile - 1) / kTile;
+  coarse.height = (g.height + kTile - 1) / kTile;
+  std::vector<std::uint8_t> glass_tile(static_cast<std::size_t>(coarse.width) * coarse.height, 0);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      if (!isGlass(e.label[g.index(x, y)])) continue;
+      for (int ty = y / kTile - 1; ty <= y / kTile + 1; ++ty)
+        for (int tx = x / kTile - 1; tx <= x / kTile + 1; ++tx)
+          if (coarse.contains(tx, ty)) glass_tile[coarse.index(tx, ty)] = 1;
+    }
+
+  // Per thread: returns and folded returns per candidate cell, beam counts. Integer sums, so the
+  // result does not depend on how the scans were shared out.
+  struct Tally {
+    std::vector<std::uint32_t> returns, folded;
+    std::size_t through_glass = 0, folded_beams = 0;
+  };
+  tbb::enumerable_thread_specific<Tally> tallies([&] {
+    Tally t;
+    t.returns.assign(e.cells.size(), 0);
+    t.folded.assign(e.cells.size(), 0);
+    return t;
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, log.scans.size(), 16), [&](const auto& range) {
+    Tally& tally = tallies.local();
+    for (std::size_t s = range.begin(); s != range.end(); ++s) {
+      grid::forEachBeam(log.scans[s], beams, [&](const grid::Beam& beam) {
+        if (!beam.hit) return;
+        const grid::CellIndex end = g.cellAt(beam.to);
+        if (!g.contains(end)) return;
+        const std::int64_t c = e.candidate(static_cast<std::uint32_t>(g.index(end)));
+        if (c < 0) return;
+        ++tally.returns[static_cast<std::size_t>(c)];
+        bool near_glass = false;
+        grid::traverse(coarse, beam.from, beam.to, [&](int x, int y, double, bool) {
+          near_glass = glass_tile[coarse.index(x, y)] != 0;
+          return !near_glass;
+        });
+        if (!near_glass) return;
+        const double glass_until = beam.range - options.glass_margin;
+        const double block_until = beam.range - options.block_margin;
+        bool through_glass = false, is_folded = false;
+        grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool) {
+          const double d = t * beam.range;
+          if (d >= glass_until) return false;
+          const int l = e.label[g.index(x, y)];
+          if (isGlass(l)) {
+            through_glass = true;
+          } else if (through_glass && l == kOccupied && d < block_until) {
+            // Blocked only if the reading lies well beyond the wall's line, not just further
+            // along a wall the beam grazes (a pane's frame, a corner).
+            Vec2 n;
+            const Vec2 centre = g.origin + (Vec2(x, y) + Vec2(0.5, 0.5)) * g.resolution;
+            if (wallNormal(e, x, y, n) && std::abs(n.dot(beam.to - centre)) >= options.block_margin) {
+              is_folded = true;
+              return false;
+            }
           }
-        }
-        return true;
+          return true;
+        });
+        tally.through_glass += through_glass;
+        tally.folded_beams += is_folded;
+        tally.folded[static_cast<std::size_t>(c)] += is_folded;
       });
-      stats.beams_through_glass += through_glass;
-      stats.folded_beams += is_folded;
-      folded[static_cast<std::size_t>(c)] += is_folded;
-    });
+    }
+  });
+
+  std::vector<std::uint32_t> returns(e.cells.size(), 0), folded(e.cells.size(), 0);
+  for (const Tally& t : tallies) {
+    for (std::size_t i = 0; i < e.cells.size(); ++i) {
+      returns[i] += t.returns[i];
+      folded[i] += t.folded[i];
+    }
+    stats.beams_through_glass += t.through_glass;
+    stats.folded_beams += t.folded_beams;
   }
   for (std::size_t i = 0; i < e.cells.size(); ++i) {
     if (folded[i] == 0) continue;
