@@ -9,6 +9,8 @@
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/eval/segments.hpp"
+#include "glassmap/eval/visibility.hpp"
+#include "glassmap/io/carmen.hpp"
 #include "glassmap/io/floorplan.hpp"
 
 namespace glassmap {
@@ -17,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct EvalSegmentsArgs {
-  std::string truth, pred, json;
+  std::string truth, pred, json, visible_from;
   eval::SegmentEvalOptions options;
   bool quiet = false;
 };
@@ -32,7 +34,19 @@ void run(const EvalSegmentsArgs& args) {
   const VectorMap truth = readFloorplan(args.truth);
   const VectorMap pred = readFloorplan(args.pred);
   const eval::SegmentEvalResult r = eval::evaluateSegments(truth, pred, args.options);
-  const nlohmann::json j = {{"truth", args.truth},
+  // Recall against the truth the log had in line of sight; precision stays the full figure.
+  eval::SegmentEvalResult seen;
+  double seen_glass_f1 = 0.0, seen_wall_f1 = 0.0;
+  const bool with_seen = !args.visible_from.empty();
+  if (with_seen) {
+    const LaserLog log = readCarmenLog(args.visible_from);
+    const VectorMap visible = eval::visiblePart(truth, eval::viewpointsOfLog(log), args.options.sample_step);
+    seen = eval::evaluateSegments(visible, pred, args.options);
+    auto f1 = [](double p, double r) { return p + r > 0 ? 2 * p * r / (p + r) : 0.0; };
+    seen_glass_f1 = f1(r.glass.precision, seen.glass.recall);
+    seen_wall_f1 = f1(r.wall.precision, seen.wall.recall);
+  }
+  nlohmann::json j = {{"truth", args.truth},
                             {"pred", args.pred},
                             {"tolerance_m", r.tolerance},
                             {"glass", scoresJson(r.glass)},
@@ -42,6 +56,12 @@ void run(const EvalSegmentsArgs& args) {
                             {"panes_found", r.panes_found},
                             {"segments_per_found_pane", r.segments_per_found_pane},
                             {"longest_false_glass_m", r.longest_false_glass}};
+  if (with_seen)
+    j["seen_from_log"] = {{"log", args.visible_from},
+                          {"glass", {{"truth_length_m", seen.glass.truth_length}, {"recall", seen.glass.recall},
+                                     {"f1", seen_glass_f1}}},
+                          {"wall", {{"truth_length_m", seen.wall.truth_length}, {"recall", seen.wall.recall},
+                                    {"f1", seen_wall_f1}}}};
   if (!args.json.empty())
     cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
@@ -55,6 +75,12 @@ void run(const EvalSegmentsArgs& args) {
               "  %zu panes found, %.2f predicted segments per found pane; longest false glass %.2f m\n",
               r.glass_angle_error_deg, r.oversegmentation, r.panes_found, r.segments_per_found_pane,
               r.longest_false_glass);
+  if (with_seen) {
+    std::printf("  seen from the log (truth in line of sight of a laser pose; precision as above):\n");
+    std::printf("  %-6s %9s %9s %9s %10s\n", "", "", "recall", "F1", "seen [m]");
+    std::printf("  %-6s %9s %9.3f %9.3f %10.2f\n", "glass", "", seen.glass.recall, seen_glass_f1, seen.glass.truth_length);
+    std::printf("  %-6s %9s %9.3f %9.3f %10.2f\n", "wall", "", seen.wall.recall, seen_wall_f1, seen.wall.truth_length);
+  }
 }
 
 const cli::Registrar reg(74, [](CLI::App& app) {
@@ -67,6 +93,10 @@ const cli::Registrar reg(74, [](CLI::App& app) {
   cmd->add_option("--pred", args->pred, "predicted floorplan, e.g. DIR/floorplan.gpkg")->required()->check(CLI::ExistingFile);
   cmd->add_option("--tol", args->options.tolerance, "match distance [m]")->capture_default_str();
   cmd->add_option("--step", args->options.sample_step, "sample spacing [m]")->capture_default_str();
+  cmd->add_option("--visible-from", args->visible_from,
+                  "CARMEN log the map was made from: also score recall against only the truth some laser pose\n"
+                  "had in line of sight (within range and field of view; glass is see-through)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing (use with --json)");
   cmd->callback([args] { run(*args); });
