@@ -13,7 +13,8 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-METHODS = ["heuristic", "direct", "mrf"]
+KEPT = "mrf, phantoms kept"  # ablation: the default pipeline without the mirror-phantom test
+METHODS = ["heuristic", "direct", "mrf", KEPT]
 
 
 def run(cmd):
@@ -34,8 +35,9 @@ def main():
         run([gm, "simulate", os.path.join(ROOT, "maps", scene, "scene.yaml"), "-o", sim, "--seed", str(a.seed), "-q"])
         truth = os.path.join(sim, "floorplan.gpkg")
         for method in METHODS:
-            d = os.path.join(a.out, scene, method)
-            run([gm, "map", os.path.join(sim, "log.clf"), "-o", d, "--method", method, "-q"])
+            d = os.path.join(a.out, scene, method.replace(" ", "_"))
+            flags = ["--method", "mrf", "--keep-phantoms"] if method == KEPT else ["--method", method]
+            run([gm, "map", os.path.join(sim, "log.clf"), "-o", d, "-q"] + flags)
             cj = os.path.join(d, "cells.json")
             run([gm, "eval", "cells", "--truth", truth, "--labels", os.path.join(d, "labels.tif"), "--json", cj])
             c = json.load(open(cj))
@@ -47,7 +49,7 @@ def main():
                                c["tolerant"]["f1"], stats["seconds"]["total"]))
             sj = os.path.join(d, "segments.json")
             run([gm, "eval", "segments", "--truth", truth, "--pred", os.path.join(d, "floorplan.gpkg"),
-                 "--json", sj, "-q"])
+                 "--visible-from", os.path.join(sim, "log.clf"), "--json", sj, "-q"])
             seg_rows.append((scene, method, json.load(open(sj))))
         print(f"{scene} done", file=sys.stderr)
 
@@ -58,14 +60,15 @@ def main():
         print("| %s | %s | %d | %d | %d | %d | %d | %d | %d | %.3f | %.3f | %.3f | **%.3f** | %.1f |" % r)
     print()
     print("| scene | method | glass P | glass R | glass F1 | glass segments pred/true | segments per found pane "
-          "| angle err [deg] | longest false glass [m] | wall P | wall R | wall F1 |")
-    print("| --- | --- | " + " | ".join(["---:"] * 10) + " |")
+          "| angle err [deg] | longest false glass [m] | wall P | wall R | wall F1 | wall R seen | wall F1 seen |")
+    print("| --- | --- | " + " | ".join(["---:"] * 12) + " |")
     for scene, method, s in seg_rows:
         g, w = s["glass"], s["wall"]
         print(f"| {scene} | {method} | {g['precision']:.3f} | {g['recall']:.3f} | **{g['f1']:.3f}** | "
               f"{g['pred_segments']}/{g['truth_segments']} | {s['segments_per_found_pane']:.2f} | "
               f"{s['glass_angle_error_deg']:.2f} | {s['longest_false_glass_m']:.2f} | "
-              f"{w['precision']:.3f} | {w['recall']:.3f} | {w['f1']:.3f} |")
+              f"{w['precision']:.3f} | {w['recall']:.3f} | {w['f1']:.3f} | "
+              f"{s['seen_from_log']['wall']['recall']:.3f} | **{s['seen_from_log']['wall']['f1']:.3f}** |")
 
 
 if __name__ == "__main__":
