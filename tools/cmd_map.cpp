@@ -33,6 +33,7 @@ struct MapArgs {
   bool quiet = false;
   bool vectorize = true;
   bool phantoms = true;
+  bool prune_glass = true;
   glass::PhantomOptions phantom;
   double max_memory_mb = 4096.0;
   glass::MappingOptions options;
@@ -83,6 +84,7 @@ nlohmann::json optionsJson(const MapArgs& a) {
             {"p_hit_emp", d.p_hit_emp}, {"occ_hit_floor", d.occ_hit_floor}, {"prior_glass", d.prior_glass},
             {"prior_occupied", d.prior_occupied}, {"min_glass_hits", d.min_glass_hits},
             {"search_cells", d.search_cells}}},
+          {"prune_unfitted_glass", a.prune_glass && a.vectorize},
           {"phantoms",
            {{"enabled", a.phantoms}, {"glass_margin", a.phantom.glass_margin},
             {"block_margin", a.phantom.block_margin}, {"min_folded_fraction", a.phantom.min_folded_fraction}}},
@@ -138,6 +140,12 @@ void run(MapArgs& args) {
     if (show_progress) std::cerr << "vectorize...\n";
     floorplan = vector::vectorize(vector::toLabelGrid(e));
   }
+  std::size_t pruned = 0;
+  if (args.vectorize && args.prune_glass) {
+    pruned = vector::pruneUnfittedGlass(result.evidence, floorplan.map);
+    result.stats.glass_cells = result.evidence.countGlass();
+    result.stats.occupied_cells = result.evidence.countOccupied();
+  }
 
   const fs::path dir(args.out);
   fs::create_directories(dir);
@@ -173,6 +181,7 @@ void run(MapArgs& args) {
                       {"mirror_phantoms", {{"beams_through_glass", phantom.beams_through_glass},
                                            {"folded_beams", phantom.folded_beams},
                                            {"cells_cleared", phantom.cells_cleared}}},
+                      {"glass_cells_off_segments", pruned},
                       {"glass_segments", floorplan.map.count(Material::Glass)},
                       {"wall_segments", floorplan.map.count(Material::Wall)},
                       {"peak_memory_bytes", peak},
@@ -193,6 +202,8 @@ void run(MapArgs& args) {
     std::printf("%-22s %zu\n", "glass cells", st.glass_cells);
     std::printf("%-22s %.1f\n", "state bytes/cell", st.bytes_per_observed_cell);
     if (use_mrf) std::printf("%-22s %zu cells changed\n", "mrf", refined.changed);
+    if (args.vectorize && args.prune_glass)
+      std::printf("%-22s %zu glass cells off every glass segment relabelled\n", "pane fit", pruned);
     if (args.phantoms)
       std::printf("%-22s %zu cells cleared (%zu of %zu beams through glass folded)\n", "mirror phantoms",
                   phantom.cells_cleared, phantom.folded_beams, phantom.beams_through_glass);
@@ -231,6 +242,9 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_option("--mrf-weight", args->mrf.unary_weight, "mrf: weight of the -log posteriors against Psi")
       ->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("!--no-vector", args->vectorize, "skip the vector floorplan");
+  cmd->add_flag("!--keep-unfitted-glass", args->prune_glass,
+                "keep glass cells that no fitted glass segment explains: by default they take their best\n"
+                "non-glass label (people walking by leave arcs of cells that each look like glass)");
   cmd->add_flag("!--keep-phantoms", args->phantoms,
                 "keep mirror phantoms: by default, wall and glass cells whose returns mostly ran straight\n"
                 "through a pane and then through a wall (impossible unless the pane folded the beam) become unknown");

@@ -13,8 +13,9 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-KEPT = "mrf, phantoms kept"  # ablation: the default pipeline without the mirror-phantom test
-METHODS = ["heuristic", "direct", "mrf", KEPT]
+# Ablations: the classifier alone, without the mirror-phantom test and the pane fit of the cells.
+RAW = {"heuristic, raw": "heuristic", "mrf, raw": "mrf"}
+METHODS = ["heuristic", "direct", "mrf", "heuristic, raw", "mrf, raw"]
 
 
 def run(cmd):
@@ -35,8 +36,9 @@ def main():
         run([gm, "simulate", os.path.join(ROOT, "maps", scene, "scene.yaml"), "-o", sim, "--seed", str(a.seed), "-q"])
         truth = os.path.join(sim, "floorplan.gpkg")
         for method in METHODS:
-            d = os.path.join(a.out, scene, method.replace(" ", "_"))
-            flags = ["--method", "mrf", "--keep-phantoms"] if method == KEPT else ["--method", method]
+            d = os.path.join(a.out, scene, method.replace(", ", "_"))
+            flags = (["--method", RAW[method], "--keep-phantoms", "--keep-unfitted-glass"] if method in RAW
+                     else ["--method", method])
             run([gm, "map", os.path.join(sim, "log.clf"), "-o", d, "-q"] + flags)
             cj = os.path.join(d, "cells.json")
             run([gm, "eval", "cells", "--truth", truth, "--labels", os.path.join(d, "labels.tif"), "--json", cj])
