@@ -164,7 +164,8 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
   io_detail::ensureGdalRegistered();
   GdalErrorCollector errors;
   const std::string file = path.string();
-  if (!fs::exists(path)) throw Error("floorplan file does not exist", file);
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error("floorplan file does not exist" + io_detail::reason(ec), file);
   if (lower(path.extension().string()) == ".dxf") io_detail::checkDxfGroupCodes(path);
   ScopedConfig raw_codes("DXF_INCLUDE_RAW_CODE_VALUES", "TRUE");
   // A known extension opens with its own driver only: no probing of every other driver's parser

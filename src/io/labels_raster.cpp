@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "gdal_util.hpp"
+#include "text_parse.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 
@@ -83,7 +84,8 @@ void writeLabelRaster(const std::filesystem::path& tif, const LabelRaster& r) {
 LabelRaster readLabelRaster(const std::filesystem::path& tif) {
   io_detail::ensureGdalRegistered();
   io_detail::GdalErrorCollector errors;
-  if (!std::filesystem::exists(tif)) throw Error("no such file", tif.string());
+  std::error_code ec;
+  if (!std::filesystem::exists(tif, ec)) throw Error("no such file" + io_detail::reason(ec), tif.string());
   Dataset ds(GDALOpen(tif.c_str(), GA_ReadOnly));
   if (!ds) throw Error("cannot open raster" + errors.suffix(), tif.string());
   if (GDALGetRasterCount(ds.get()) != 1) throw Error("expected a single-band raster", tif.string());

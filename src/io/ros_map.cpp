@@ -8,6 +8,7 @@
 #include <string>
 
 #include "gdal_util.hpp"
+#include "text_parse.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 
@@ -165,7 +166,8 @@ bool isPgm(const fs::path& p) {
 
 OccupancyGridMap readRosMap(const fs::path& yaml_path) {
   const std::string yname = yaml_path.string();
-  if (!fs::exists(yaml_path)) throw Error("map YAML file does not exist", yname);
+  std::error_code ec;
+  if (!fs::exists(yaml_path, ec)) throw Error("map YAML file does not exist" + io_detail::reason(ec), yname);
   YAML::Node doc;
   try {
     doc = YAML::LoadFile(yname);
@@ -227,8 +229,8 @@ OccupancyGridMap readRosMap(const fs::path& yaml_path) {
   }
   fs::path image_path = image_name;
   if (image_path.is_relative()) image_path = yaml_path.parent_path() / image_path;
-  if (!fs::exists(image_path))
-    throw Error("image '" + image_path.string() + "' does not exist", yname, line(image_node), "image");
+  if (!fs::exists(image_path, ec))
+    throw Error("image '" + image_path.string() + "' does not exist" + io_detail::reason(ec), yname, line(image_node), "image");
   const GrayImage img = isPgm(image_path) ? readPgm(image_path) : readRasterWithGdal(image_path);
 
   map.width = img.width;

@@ -12,6 +12,9 @@
 
 namespace glassmap::io_detail {
 
+/// ": <why>" when a filesystem check failed (a name too long, a permission), "" when it just said no.
+inline std::string reason(const std::error_code& ec) { return ec ? ": " + ec.message() : std::string(); }
+
 /// Splits a line on blanks (space, tab, CR) into views; clears `out` first.
 inline void splitBlanks(std::string_view line, std::vector<std::string_view>& out) {
   out.clear();

@@ -454,6 +454,19 @@ TEST(HostileRosMap, MissingImageIsAnErrorNamingIt) {
   expectErrorWith([&] { readRosMap(yaml); }, "nowhere.pgm");
 }
 
+// Found by fuzzing: an image name longer than the system allows made the existence check throw a
+// std::filesystem error past the reader. It is a clear error now, here and for the other readers.
+TEST(HostileRosMap, ImageNameTooLongIsAnErrorNotAnEscapedException) {
+  TempDir dir;
+  const std::string name(5000, 'm');
+  const auto yaml = dir.write("map.yaml", "image: " + name + ".pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
+                                          "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  expectErrorWith([&] { readRosMap(yaml); }, "does not exist");
+  expectErrorWith([&] { readRosMap(dir / (name + ".yaml")); }, "does not exist");
+  expectErrorWith([&] { readFloorplan(dir / (name + ".geojson")); }, "does not exist");
+  expectErrorWith([&] { readLabelRaster(dir / (name + ".tif")); }, "no such file");
+}
+
 TEST(HostileRosMap, ForgedImageSizeIsRefusedBeforeAllocating) {
   TempDir dir;
   const auto yaml = dir.write("map.yaml", "image: map.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
