@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "glassmap/core/error.hpp"
+#include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 
 namespace glassmap::glass {
@@ -103,9 +106,20 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
     occupied[i] = occ.occupied(counts.get(c.x, c.y)) ? 1 : 0;
   }
   const double search = o.search_cells * res;
-  grid::IntegrationStats st;
-  for (std::size_t s = 0; s < log.scans.size(); ++s) {
-    if (progress && s % 256 == 0) progress(static_cast<double>(s) / log.scans.size());
+  // A thread's part: its histogram counts, its sums in fixed point (exact integer sums, so the
+  // total does not depend on how the scans were shared out), its statistics.
+  constexpr double kFixed = 4294967296.0;  // 2^32 per nat
+  struct Part {
+    std::vector<std::uint16_t> counts;
+    std::vector<std::int64_t> log_occ, log_glass;
+    grid::IntegrationStats stats;
+  };
+  tbb::enumerable_thread_specific<Part> parts([&] {
+    return Part{hist.emptyCounts(), std::vector<std::int64_t>(hist.size(), 0),
+                std::vector<std::int64_t>(hist.size(), 0), {}};
+  });
+  grid::forScansInParallel(log.scans.size(), progress, parts, [&](std::size_t s, Part& part) {
+    grid::IntegrationStats& st = part.stats;
     grid::forEachBeam(log.scans[s], beams, [&](const grid::Beam& beam) {
       ++st.beams;
       const int bin = grid::angleBin(beam.angle, bins);
@@ -118,10 +132,10 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
         const std::int32_t id = hist.find(x, y);
         if (id == AngleHistograms::kNone) return;
         if (end_inside && last) {
-          hist.addHit(id, bin);
+          hist.addHit(part.counts, id, bin);
           end_id = id;
         } else if (grid::countsMiss(beam, t * beam.range, beams.miss_margin)) {
-          hist.addMiss(id, bin);
+          hist.addMiss(part.counts, id, bin);
         }
         if (occupied[static_cast<std::size_t>(id)] && !std::isfinite(d_real)) d_real = t * beam.range;
       });
@@ -142,13 +156,26 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
       const double x = (d_real - beam.range) / res - o.sigmoid_margin;
       const double log_p_occ = -softplus(x);       // log P_occ^t
       const double log_1m_p_occ = -softplus(-x);   // log (1 - P_occ^t)
-      sums.log_occ[static_cast<std::size_t>(end_id)] +=
-          static_cast<float>(std::log(o.p_hit_occ * std::exp(log_p_occ) + o.occ_hit_floor));
-      sums.log_glass[static_cast<std::size_t>(end_id)] += static_cast<float>(log_1m_p_occ);
+      const auto k = static_cast<std::size_t>(end_id);
+      part.log_occ[k] += std::llround(kFixed * std::log(o.p_hit_occ * std::exp(log_p_occ) + o.occ_hit_floor));
+      part.log_glass[k] += std::llround(kFixed * log_1m_p_occ);
     });
     ++st.scans;
+  });
+  std::vector<std::int64_t> log_occ(hist.size(), 0), log_glass(hist.size(), 0);
+  grid::IntegrationStats st;
+  for (Part& part : parts) {
+    hist.merge(part.counts);
+    for (std::size_t i = 0; i < hist.size(); ++i) {
+      log_occ[i] += part.log_occ[i];
+      log_glass[i] += part.log_glass[i];
+    }
+    st += part.stats;
   }
-  if (progress) progress(1.0);
+  for (std::size_t i = 0; i < hist.size(); ++i) {
+    sums.log_occ[i] = static_cast<float>(static_cast<double>(log_occ[i]) / kFixed);
+    sums.log_glass[i] = static_cast<float>(static_cast<double>(log_glass[i]) / kFixed);
+  }
   if (stats) *stats = st;
   return sums;
 }

@@ -1,5 +1,7 @@
 #include "glassmap/grid/angle_histograms.hpp"
 
+#include <algorithm>
+
 #include "glassmap/core/error.hpp"
 
 namespace glassmap::grid {
@@ -33,6 +35,12 @@ AngleHistograms::AngleHistograms(const HitMissGrid& counts, int bins, int min_hi
     }
   }
   counts_.assign(cells_.size() * 2 * static_cast<std::size_t>(bins_), 0);
+}
+
+void AngleHistograms::merge(const std::vector<std::uint16_t>& counts) {
+  if (counts.size() != counts_.size()) throw Error("merging histograms of a different shape");
+  for (std::size_t i = 0; i < counts_.size(); ++i)
+    counts_[i] = static_cast<std::uint16_t>(std::min<unsigned>(0xFFFF, unsigned{counts_[i]} + counts[i]));
 }
 
 std::size_t AngleHistograms::bytes() const {

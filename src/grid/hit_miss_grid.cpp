@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "glassmap/core/error.hpp"
+
 namespace glassmap::grid {
 
 double OccupancyModel::logOdds(const CellCounts& c) const {
@@ -22,6 +24,20 @@ HitMissGrid::HitMissGrid(const GridGeometry& geometry) : geometry_(geometry) {
 std::unique_ptr<CellCounts[]> HitMissGrid::allocateTile() {
   ++allocated_;
   return std::make_unique<CellCounts[]>(kTileCells);  // value-initialised: zero counts
+}
+
+void HitMissGrid::merge(const HitMissGrid& other) {
+  if (other.tiles_.size() != tiles_.size()) throw Error("merging grids of different geometry");
+  for (std::size_t t = 0; t < tiles_.size(); ++t) {
+    const auto& src = other.tiles_[t];
+    if (!src) continue;
+    auto& dst = tiles_[t];
+    if (!dst) dst = allocateTile();
+    for (int i = 0; i < kTileCells; ++i) {
+      dst[i].hits = static_cast<std::uint16_t>(std::min<unsigned>(0xFFFF, unsigned{dst[i].hits} + src[i].hits));
+      dst[i].misses = static_cast<std::uint16_t>(std::min<unsigned>(0xFFFF, unsigned{dst[i].misses} + src[i].misses));
+    }
+  }
 }
 
 std::size_t HitMissGrid::observedCells() const {

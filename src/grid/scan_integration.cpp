@@ -2,14 +2,10 @@
 
 #include "glassmap/core/error.hpp"
 #include "glassmap/geometry/vector_map.hpp"
+#include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 
 namespace glassmap::grid {
-namespace {
-
-constexpr std::size_t kProgressEvery = 256;  // scans between progress calls
-
-}  // namespace
 
 GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOptions& options,
                             double margin) {
@@ -24,62 +20,78 @@ GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOp
 
 namespace {
 
-// One pass over every beam of the log: visit(beam, x, y, is_hit) for the end cell of a hit inside
-// the grid (is_hit) and for each traversed cell that counts as a miss. Both passes share it.
-template <typename Prepare, typename Visit>
-IntegrationStats integratePass(const LaserLog& log, const BeamOptions& options, const GridGeometry& g,
-                               const Progress& progress, Prepare prepare, Visit visit) {
+// A thread's part of a pass: its own counts (a grid or histogram counts) and statistics.
+template <typename Counts>
+struct Part {
+  Counts counts;
   IntegrationStats stats;
-  for (std::size_t s = 0; s < log.scans.size(); ++s) {
+};
+
+// One pass over every beam of the log, scans in parallel: visit(counts, beam_key, x, y, is_hit)
+// for the end cell of a hit inside the grid (is_hit) and for each traversed cell that counts as a
+// miss, into the thread's own counts; the parts are then handed to merge(counts) one by one.
+template <typename Counts, typename Make, typename Prepare, typename Visit, typename Merge>
+IntegrationStats integratePass(const LaserLog& log, const BeamOptions& options, const GridGeometry& g,
+                               const Progress& progress, Make make, Prepare prepare, Visit visit, Merge merge) {
+  tbb::enumerable_thread_specific<Part<Counts>> parts([&] { return Part<Counts>{make(), {}}; });
+  forScansInParallel(log.scans.size(), progress, parts, [&](std::size_t s, Part<Counts>& part) {
+    IntegrationStats& stats = part.stats;
     forEachBeam(log.scans[s], options, [&](const Beam& beam) {
       const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
       const auto per_beam = prepare(beam);
       stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
         if (end_inside && last) {
-          visit(per_beam, x, y, true);
+          visit(part.counts, per_beam, x, y, true);
         } else if (countsMiss(beam, t * beam.range, options.miss_margin)) {
-          visit(per_beam, x, y, false);
+          visit(part.counts, per_beam, x, y, false);
         }
       });
       ++stats.beams;
       stats.hit_beams += beam.hit ? 1 : 0;
     });
     ++stats.scans;
-    if (progress && s % kProgressEvery == 0) progress(static_cast<double>(s) / log.scans.size());
+  });
+  IntegrationStats total;
+  for (Part<Counts>& part : parts) {
+    merge(part.counts);
+    total += part.stats;
   }
-  if (progress) progress(1.0);
-  return stats;
+  return total;
 }
 
 }  // namespace
 
 IntegrationStats integrateCounts(const LaserLog& log, const BeamOptions& options, HitMissGrid& grid,
                                  const Progress& progress) {
-  return integratePass(
-      log, options, grid.geometry(), progress, [](const Beam&) { return 0; },
-      [&](int, int x, int y, bool hit) {
+  return integratePass<HitMissGrid>(
+      log, options, grid.geometry(), progress, [&] { return HitMissGrid(grid.geometry()); },
+      [](const Beam&) { return 0; },
+      [](HitMissGrid& counts, int, int x, int y, bool hit) {
         if (hit) {
-          grid.addHit(x, y);
+          counts.addHit(x, y);
         } else {
-          grid.addMiss(x, y);
+          counts.addMiss(x, y);
         }
-      });
+      },
+      [&](const HitMissGrid& part) { grid.merge(part); });
 }
 
 IntegrationStats integrateAngles(const LaserLog& log, const BeamOptions& options,
                                  AngleHistograms& histograms, const Progress& progress) {
   const int bins = histograms.bins();
-  return integratePass(
-      log, options, histograms.geometry(), progress, [bins](const Beam& beam) { return angleBin(beam.angle, bins); },
-      [&](int bin, int x, int y, bool hit) {
+  return integratePass<std::vector<std::uint16_t>>(
+      log, options, histograms.geometry(), progress, [&] { return histograms.emptyCounts(); },
+      [bins](const Beam& beam) { return angleBin(beam.angle, bins); },
+      [&](std::vector<std::uint16_t>& counts, int bin, int x, int y, bool hit) {
         const std::int32_t id = histograms.find(x, y);
         if (id == AngleHistograms::kNone) return;
         if (hit) {
-          histograms.addHit(id, bin);
+          histograms.addHit(counts, id, bin);
         } else {
-          histograms.addMiss(id, bin);
+          histograms.addMiss(counts, id, bin);
         }
-      });
+      },
+      [&](const std::vector<std::uint16_t>& part) { histograms.merge(part); });
 }
 
 }  // namespace glassmap::grid

@@ -325,10 +325,11 @@ void writeShapefile(const fs::path& target, const VectorMap& map) {
   // A shapefile is several files: build them in a temporary folder, then move each into place,
   // the .shp last so that a reader never sees a .shp without its sidecars.
   const fs::path dir = temporarySibling(target.parent_path() / (target.stem().string() + ".dir"));
+  // Registered before it exists: a signal between creating and registering would leave it behind.
+  const LiveTemporary live_dir(dir, /*is_directory=*/true);  // removed by a SIGINT/SIGTERM handler too
   std::error_code ec;
   fs::create_directory(dir, ec);
   if (ec) throw Error("cannot create temporary folder: " + ec.message(), dir.string());
-  const LiveTemporary live_dir(dir, /*is_directory=*/true);  // removed by a SIGINT/SIGTERM handler too
   try {
     writeWithGdal(dir / target.filename(), map, FloorplanFormat::Shapefile, {});
     std::vector<fs::path> files;

@@ -50,6 +50,20 @@ class AngleHistograms {
   void addHit(std::int32_t id, int bin) { auto& c = hits(id)[bin]; if (c != 0xFFFF) ++c; }
   void addMiss(std::int32_t id, int bin) { auto& c = misses(id)[bin]; if (c != 0xFFFF) ++c; }
 
+  /// Counts for one thread of a parallel pass: a zeroed array shaped like this one's histograms,
+  /// filled with addHit/addMiss(counts, ...) and added back with merge(). Saturating throughout,
+  /// so the merged histograms equal a serial pass whatever the split.
+  std::vector<std::uint16_t> emptyCounts() const { return std::vector<std::uint16_t>(counts_.size(), 0); }
+  void addHit(std::vector<std::uint16_t>& counts, std::int32_t id, int bin) const {
+    auto& c = counts[static_cast<std::size_t>(id) * 2 * bins_ + static_cast<std::size_t>(bin)];
+    if (c != 0xFFFF) ++c;
+  }
+  void addMiss(std::vector<std::uint16_t>& counts, std::int32_t id, int bin) const {
+    auto& c = counts[static_cast<std::size_t>(id) * 2 * bins_ + static_cast<std::size_t>(bins_ + bin)];
+    if (c != 0xFFFF) ++c;
+  }
+  void merge(const std::vector<std::uint16_t>& counts);
+
   /// Bytes held (index tiles, cell list, histograms).
   std::size_t bytes() const;
 

@@ -59,6 +59,10 @@ class HitMissGrid {
   void addHit(int x, int y) { auto& c = at(x, y); if (c.hits != 0xFFFF) ++c.hits; }
   void addMiss(int x, int y) { auto& c = at(x, y); if (c.misses != 0xFFFF) ++c.misses; }
 
+  /// Adds other's counts (same geometry) cell by cell, saturating like addHit/addMiss: a grid
+  /// filled in parts and merged equals one filled in one go, whatever the order.
+  void merge(const HitMissGrid& other);
+
   /// True if the tile holding (x, y) is allocated.
   bool tileAllocated(int x, int y) const { return static_cast<bool>(tiles_[tileIndex(x, y)]); }
   std::size_t allocatedTiles() const { return allocated_; }
