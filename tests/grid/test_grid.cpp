@@ -6,6 +6,9 @@
 #include <set>
 #include <utility>
 
+#include <tbb/global_control.h>
+
+#include "glassmap/core/error.hpp"
 #include "glassmap/grid/angle_histograms.hpp"
 #include "glassmap/grid/scan_integration.hpp"
 #include "glassmap/grid/traversal.hpp"
@@ -198,6 +201,89 @@ TEST(AngleHistograms, HitsAndMissesLandInTheBeamBin) {
   // A free cell is no candidate.
   const CellIndex f = g.cellAt(Vec2(1.0, 0.2));
   EXPECT_EQ(hist.find(f.x, f.y), AngleHistograms::kNone);
+}
+
+}  // namespace
+}  // namespace glassmap::grid
+
+namespace glassmap::grid {
+namespace {
+
+// Parts merged: saturating sums, the same whatever the split.
+TEST(ParallelPasses, MergeSaturatesAndEqualsOneGo) {
+  const GridGeometry g = coveringGeometry(Vec2(0, 0), Vec2(3, 3), 0.05, 0.0);
+  HitMissGrid a(g), b(g), whole(g);
+  for (int i = 0; i < 40000; ++i) {
+    a.addHit(3, 4);
+    whole.addHit(3, 4);
+  }
+  for (int i = 0; i < 40000; ++i) {
+    b.addHit(3, 4);
+    whole.addHit(3, 4);
+  }
+  b.addMiss(50, 50);
+  whole.addMiss(50, 50);
+  a.merge(b);
+  EXPECT_EQ(a.get(3, 4).hits, 0xFFFF);
+  EXPECT_EQ(whole.get(3, 4).hits, 0xFFFF);
+  EXPECT_EQ(a.get(50, 50).misses, 1);
+  EXPECT_EQ(a.observedCells(), whole.observedCells());
+  HitMissGrid other(coveringGeometry(Vec2(0, 0), Vec2(9, 9), 0.05, 0.0));
+  EXPECT_THROW(a.merge(other), Error);
+
+  AngleHistograms hist(a, 36);
+  ASSERT_EQ(hist.size(), 1U);
+  std::vector<std::uint16_t> part = hist.emptyCounts();
+  hist.addHit(part, 0, 5);
+  hist.addMiss(part, 0, 7);
+  hist.merge(part);
+  hist.merge(part);
+  EXPECT_EQ(hist.hits(0)[5], 2);
+  EXPECT_EQ(hist.misses(0)[7], 2);
+  EXPECT_EQ(hist.hits(0)[7], 0);
+}
+
+// The passes give the same counts on one thread and on several.
+TEST(ParallelPasses, CountsAndHistogramsDoNotDependOnTheThreadCount) {
+  LaserLog log;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> r(0.5, 6.0);
+  for (int s = 0; s < 300; ++s) {
+    LaserScan scan;
+    scan.max_range = 8.0;
+    scan.start_angle = deg2rad(-90.0);
+    scan.angular_step = deg2rad(1.0);
+    scan.laser_pose = Pose2(0.01 * s, 0.02 * (s % 7), 0.01 * s);
+    for (int i = 0; i < 181; ++i) scan.ranges.push_back(static_cast<float>(r(rng)));
+    log.scans.push_back(scan);
+  }
+  BeamOptions opt;
+  const GridGeometry g = geometryForLog(log, 0.05, opt);
+  auto run = [&](int threads, std::vector<std::uint16_t>& hist_out) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    HitMissGrid grid(g);
+    const IntegrationStats st = integrateCounts(log, opt, grid);
+    AngleHistograms hist(grid, 36);
+    integrateAngles(log, opt, hist);
+    hist_out.clear();
+    for (std::size_t i = 0; i < hist.size(); ++i)
+      hist_out.insert(hist_out.end(), hist.hits(static_cast<std::int32_t>(i)),
+                      hist.hits(static_cast<std::int32_t>(i)) + 72);
+    std::vector<std::uint32_t> cells;
+    for (int y = 0; y < g.height; ++y)
+      for (int x = 0; x < g.width; ++x) {
+        const CellCounts c = grid.get(x, y);
+        cells.push_back((std::uint32_t{c.hits} << 16) | c.misses);
+      }
+    EXPECT_EQ(st.beams, 300U * 181U);
+    return cells;
+  };
+  std::vector<std::uint16_t> h1, h4;
+  const auto c1 = run(1, h1);
+  const auto c4 = run(4, h4);
+  EXPECT_EQ(c1, c4);
+  EXPECT_EQ(h1, h4);
+  EXPECT_FALSE(h1.empty());
 }
 
 }  // namespace
