@@ -150,7 +150,10 @@ void checkDxfGroupCodes(const fs::path& dxf) {
   bool in_section = false, in_table = false, in_block = false, seen_eof = false;
   while (std::getline(in, line)) {
     ++number;
-    if (number == 1 && line.starts_with("AutoCAD Binary DXF")) return;
+    // GDAL 3.6's binary DXF reader spins forever on damaged input (found by fuzzing:
+    // tests/data/fuzz/fuzz_floorplan_dxf/hang-binary.dxf), and our files are text: refuse binary.
+    if (number == 1 && line.starts_with("AutoCAD Binary DXF"))
+      throw Error("binary DXF is not read: save the drawing as ASCII (text) DXF", dxf.string(), 1);
     // A NUL byte never belongs in a text DXF, and GDAL 3.6's DXF reader can spin forever on one
     // (found by fuzzing: tests/data/fuzz/fuzz_floorplan_dxf/hang-nul-byte.dxf).
     if (line.find('\0') != std::string::npos)

@@ -424,9 +424,9 @@ TEST(HostileFloorplan, NonFiniteOrOverflowingCoordinatesInAVectorMap) {
   EXPECT_THROW(readFloorplan(p), Error);
 }
 
-// Five DXF files (5 B to 2.5 KB) found by fuzzing on which GDAL 3.6's DXF driver loops for
+// Six DXF files (5 B to 2.5 KB) found by fuzzing on which GDAL 3.6's DXF driver loops for
 // minutes (misaligned group codes, a section never closed, no closing EOF, ENDTAB without TABLE,
-// NUL bytes in the header): refused up front.
+// NUL bytes in the header, a damaged binary DXF): refused up front.
 TEST(HostileFloorplan, MalformedDxfThatHangsGdalIsRefusedQuickly) {
   const fs::path seeds = fs::path(GLASSMAP_SOURCE_DIR) / "tests" / "data" / "fuzz" / "fuzz_floorplan_dxf";
   expectErrorWith([&] { readFloorplan(seeds / "hang-misaligned-codes.dxf"); }, "group code");
@@ -439,6 +439,7 @@ TEST(HostileFloorplan, MalformedDxfThatHangsGdalIsRefusedQuickly) {
   std::replace(endtab.begin(), endtab.end(), '\0', 'x');
   expectErrorWith([&] { readFloorplan(dir.write("endtab.dxf", endtab)); }, "ENDTAB without");
   expectErrorWith([&] { readFloorplan(seeds / "hang-nul-byte.dxf"); }, "NUL byte");
+  expectErrorWith([&] { readFloorplan(seeds / "hang-binary.dxf"); }, "binary DXF");
   // Well-formed DXF (GDAL's own output, and a minimal hand-written one) still reads.
   EXPECT_EQ(readFloorplan(seeds / "tiny.dxf").segments.size(), 3u);
   EXPECT_EQ(readFloorplan(seeds / "minimal.dxf").segments.size(), 4u);
