@@ -13,13 +13,7 @@ namespace {
 
 VectorMap box() {
   VectorMap m;
-  auto add = [&](Vec2 a, Vec2 b, Material mat) {
-    MapSegment s;
-    s.a = a;
-    s.b = b;
-    s.material = mat;
-    m.segments.push_back(s);
-  };
+  auto add = [&](Vec2 a, Vec2 b, Material mat) { m.add(a, b, mat); };
   add({0, 0}, {10, 0}, Material::Wall);
   add({10, 0}, {10, 4}, Material::Wall);
   add({10, 4}, {0, 4}, Material::Wall);

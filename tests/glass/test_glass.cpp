@@ -17,13 +17,7 @@ namespace {
 // its core: a direct return within ~3 deg of the normal, a pass-through otherwise.
 VectorMap scene() {
   VectorMap m;
-  auto add = [&](Vec2 a, Vec2 b, Material mat) {
-    MapSegment s;
-    s.a = a;
-    s.b = b;
-    s.material = mat;
-    m.segments.push_back(s);
-  };
+  auto add = [&](Vec2 a, Vec2 b, Material mat) { m.add(a, b, mat); };
   add({0, 0}, {10, 0}, Material::Wall);
   add({10, 0}, {10, 6}, Material::Wall);
   add({10, 6}, {0, 6}, Material::Wall);

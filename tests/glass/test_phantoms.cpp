@@ -17,13 +17,7 @@ namespace {
 
 VectorMap corridor() {
   VectorMap m;
-  auto add = [&](Vec2 a, Vec2 b, Material mat) {
-    MapSegment s;
-    s.a = a;
-    s.b = b;
-    s.material = mat;
-    m.segments.push_back(s);
-  };
+  auto add = [&](Vec2 a, Vec2 b, Material mat) { m.add(a, b, mat); };
   add({-1, 3}, {13, 3}, Material::Wall);    // corridor wall
   add({0, 0}, {12, 0}, Material::Glass);    // the pane
   add({-1, 0}, {0, 0}, Material::Wall);     // pane frame

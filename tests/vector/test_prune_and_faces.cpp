@@ -36,16 +36,8 @@ TEST(PruneUnfittedGlass, CellsOffEveryPaneTakeTheirBestOtherLabel) {
   e.cost[glass::glassLabel(18)] = 0.5f;
 
   VectorMap plan;
-  MapSegment pane;
-  pane.a = Vec2(1.0, 2.525);
-  pane.b = Vec2(4.0, 2.525);
-  pane.material = Material::Glass;
-  plan.segments.push_back(pane);
-  MapSegment wall = pane;  // a wall segment explains no glass
-  wall.a = Vec2(1.0, 1.025);
-  wall.b = Vec2(4.0, 1.025);
-  wall.material = Material::Wall;
-  plan.segments.push_back(wall);
+  plan.add({1.0, 2.525}, {4.0, 2.525}, Material::Glass);
+  plan.add({1.0, 1.025}, {4.0, 1.025}, Material::Wall);  // a wall segment explains no glass
 
   EXPECT_EQ(pruneUnfittedGlass(e, plan), 6u);
   for (int x = 20; x < 80; ++x) EXPECT_TRUE(glass::isGlass(e.label[g.index(x, 50)])) << x;

@@ -51,6 +51,14 @@ struct VectorMap {
 
   Box2 bounds() const;
   std::size_t count(Material m) const;
+  /// Appends a segment a -> b of material m (other attributes at their defaults); returns it.
+  MapSegment& add(const Vec2& a, const Vec2& b, Material m) {
+    MapSegment& s = segments.emplace_back();
+    s.a = a;
+    s.b = b;
+    s.material = m;
+    return s;
+  }
 };
 
 }  // namespace glassmap
