@@ -194,8 +194,16 @@ void checkDxfGroupCodes(const fs::path& dxf) {
   if (in_section)
     throw Error("section opened at line " + std::to_string(section_line) + " is not closed by ENDSEC", dxf.string(),
                 number);
-  // GDAL's reader can spin at the end of a file that stops without the closing group.
+  // GDAL's reader can spin at the end of a file that stops without the closing group, and on one
+  // that goes on after it (found by fuzzing: hang-after-eof.dxf).
   if (!seen_eof) throw Error("truncated DXF: no '0 EOF' group at the end", dxf.string(), number);
+  const std::size_t eof_line = number;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!trim(line).empty())
+      throw Error("content after the closing '0 EOF' group of line " + std::to_string(eof_line), dxf.string(),
+                  number);
+  }
 }
 
 double dxfUnitInMetres(const fs::path& dxf) {

@@ -424,9 +424,9 @@ TEST(HostileFloorplan, NonFiniteOrOverflowingCoordinatesInAVectorMap) {
   EXPECT_THROW(readFloorplan(p), Error);
 }
 
-// Six DXF files (5 B to 2.5 KB) found by fuzzing on which GDAL 3.6's DXF driver loops for
+// Seven DXF files (5 B to 2.5 KB) found by fuzzing on which GDAL 3.6's DXF driver loops for
 // minutes (misaligned group codes, a section never closed, no closing EOF, ENDTAB without TABLE,
-// NUL bytes in the header, a damaged binary DXF): refused up front.
+// NUL bytes in the header, a damaged binary DXF, content after EOF): refused up front.
 TEST(HostileFloorplan, MalformedDxfThatHangsGdalIsRefusedQuickly) {
   const fs::path seeds = fs::path(GLASSMAP_SOURCE_DIR) / "tests" / "data" / "fuzz" / "fuzz_floorplan_dxf";
   expectErrorWith([&] { readFloorplan(seeds / "hang-misaligned-codes.dxf"); }, "group code");
@@ -440,6 +440,7 @@ TEST(HostileFloorplan, MalformedDxfThatHangsGdalIsRefusedQuickly) {
   expectErrorWith([&] { readFloorplan(dir.write("endtab.dxf", endtab)); }, "ENDTAB without");
   expectErrorWith([&] { readFloorplan(seeds / "hang-nul-byte.dxf"); }, "NUL byte");
   expectErrorWith([&] { readFloorplan(seeds / "hang-binary.dxf"); }, "binary DXF");
+  expectErrorWith([&] { readFloorplan(seeds / "hang-after-eof.dxf"); }, "after the closing");
   // Well-formed DXF (GDAL's own output, and a minimal hand-written one) still reads.
   EXPECT_EQ(readFloorplan(seeds / "tiny.dxf").segments.size(), 3u);
   EXPECT_EQ(readFloorplan(seeds / "minimal.dxf").segments.size(), 4u);
