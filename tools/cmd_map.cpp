@@ -84,7 +84,7 @@ nlohmann::json optionsJson(const MapArgs& a) {
             {"p_hit_emp", d.p_hit_emp}, {"occ_hit_floor", d.occ_hit_floor}, {"prior_glass", d.prior_glass},
             {"prior_occupied", d.prior_occupied}, {"min_glass_hits", d.min_glass_hits},
             {"search_cells", d.search_cells}}},
-          {"prune_unfitted_glass", a.prune_glass && a.vectorize},
+          {"prune_unfitted_glass", a.prune_glass},
           {"phantoms",
            {{"enabled", a.phantoms}, {"glass_margin", a.phantom.glass_margin},
             {"block_margin", a.phantom.block_margin}, {"min_folded_fraction", a.phantom.min_folded_fraction}}},
@@ -136,12 +136,13 @@ void run(MapArgs& args) {
   }
   const glass::CellEvidence& e = result.evidence;
   vector::VectorizeResult floorplan;
-  if (args.vectorize) {
+  // The pane fit needs the fitted floorplan even when no floorplan file is wanted.
+  if (args.vectorize || args.prune_glass) {
     if (show_progress) std::cerr << "vectorize...\n";
     floorplan = vector::vectorize(vector::toLabelGrid(e));
   }
   std::size_t pruned = 0;
-  if (args.vectorize && args.prune_glass) {
+  if (args.prune_glass) {
     pruned = vector::pruneUnfittedGlass(result.evidence, floorplan.map);
     result.stats.glass_cells = result.evidence.countGlass();
     result.stats.occupied_cells = result.evidence.countOccupied();
@@ -202,7 +203,7 @@ void run(MapArgs& args) {
     std::printf("%-22s %zu\n", "glass cells", st.glass_cells);
     std::printf("%-22s %.1f\n", "state bytes/cell", st.bytes_per_observed_cell);
     if (use_mrf) std::printf("%-22s %zu cells changed\n", "mrf", refined.changed);
-    if (args.vectorize && args.prune_glass)
+    if (args.prune_glass)
       std::printf("%-22s %zu glass cells off every glass segment relabelled\n", "pane fit", pruned);
     if (args.phantoms)
       std::printf("%-22s %zu cells cleared (%zu of %zu beams through glass folded)\n", "mirror phantoms",
@@ -241,7 +242,9 @@ const cli::Registrar reg(40, [](CLI::App& app) {
       ->check(CLI::IsMember({"paper", "closed", "neutral"}))->capture_default_str();
   cmd->add_option("--mrf-weight", args->mrf.unary_weight, "mrf: weight of the -log posteriors against Psi")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_flag("!--no-vector", args->vectorize, "skip the vector floorplan");
+  cmd->add_flag("!--no-vector", args->vectorize,
+                "write no floorplan files (the floorplan is still fitted in memory for the pane fit,\n"
+                "unless --keep-unfitted-glass)");
   cmd->add_flag("!--keep-unfitted-glass", args->prune_glass,
                 "keep glass cells that no fitted glass segment explains: by default they take their best\n"
                 "non-glass label (people walking by leave arcs of cells that each look like glass)");
