@@ -144,6 +144,16 @@ void checkDxfGroupCodes(const fs::path& dxf) {
     while (!v.empty() && (v.front() == ' ' || v.front() == '\t')) v.remove_prefix(1);
     return v;
   };
+  // GDAL 3.6's reader spins on a file whose last byte is a bare carriage return (found by
+  // fuzzing: hang-final-cr.dxf); text DXF ends in a line feed or in "EOF" itself.
+  in.seekg(0, std::ios::end);
+  if (in.tellg() > 0) {
+    in.seekg(-1, std::ios::end);
+    if (in.get() == '\r')
+      throw Error("DXF ends in a bare carriage return (damaged line endings)", dxf.string());
+  }
+  in.clear();
+  in.seekg(0);
   std::string line;
   std::size_t number = 0, section_line = 0;
   long code = -1000;

@@ -424,14 +424,20 @@ TEST(HostileFloorplan, NonFiniteOrOverflowingCoordinatesInAVectorMap) {
   EXPECT_THROW(readFloorplan(p), Error);
 }
 
-// Seven DXF files (5 B to 2.5 KB) found by fuzzing on which GDAL 3.6's DXF driver loops for
+// Eight DXF files (5 B to 2.5 KB) found by fuzzing on which GDAL 3.6's DXF driver loops for
 // minutes (misaligned group codes, a section never closed, no closing EOF, ENDTAB without TABLE,
-// NUL bytes in the header, a damaged binary DXF, content after EOF): refused up front.
+// NUL bytes in the header, a damaged binary DXF, content after EOF, a final bare CR): refused up
+// front.
 TEST(HostileFloorplan, MalformedDxfThatHangsGdalIsRefusedQuickly) {
   const fs::path seeds = fs::path(GLASSMAP_SOURCE_DIR) / "tests" / "data" / "fuzz" / "fuzz_floorplan_dxf";
   expectErrorWith([&] { readFloorplan(seeds / "hang-misaligned-codes.dxf"); }, "group code");
   expectErrorWith([&] { readFloorplan(seeds / "hang-unclosed-section.dxf"); }, "SECTION inside");
-  expectErrorWith([&] { readFloorplan(seeds / "hang-no-eof.dxf"); }, "no '0 EOF'");
+  // This one also ends in a bare CR (refused first); without it, the missing EOF is the finding.
+  expectErrorWith([&] { readFloorplan(seeds / "hang-no-eof.dxf"); }, "carriage return");
+  TempDir no_eof_dir;
+  std::string no_eof = readBytes(seeds / "hang-no-eof.dxf");
+  no_eof.back() = '\n';
+  expectErrorWith([&] { readFloorplan(no_eof_dir.write("no-eof.dxf", no_eof)); }, "no '0 EOF'");
   // This one also holds NUL bytes (refused first); without them its ENDTAB is the finding.
   expectErrorWith([&] { readFloorplan(seeds / "hang-endtab-without-table.dxf"); }, "NUL byte");
   TempDir dir;
@@ -441,6 +447,7 @@ TEST(HostileFloorplan, MalformedDxfThatHangsGdalIsRefusedQuickly) {
   expectErrorWith([&] { readFloorplan(seeds / "hang-nul-byte.dxf"); }, "NUL byte");
   expectErrorWith([&] { readFloorplan(seeds / "hang-binary.dxf"); }, "binary DXF");
   expectErrorWith([&] { readFloorplan(seeds / "hang-after-eof.dxf"); }, "after the closing");
+  expectErrorWith([&] { readFloorplan(seeds / "hang-final-cr.dxf"); }, "carriage return");
   // Well-formed DXF (GDAL's own output, and a minimal hand-written one) still reads.
   EXPECT_EQ(readFloorplan(seeds / "tiny.dxf").segments.size(), 3u);
   EXPECT_EQ(readFloorplan(seeds / "minimal.dxf").segments.size(), 4u);
