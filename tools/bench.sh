@@ -2,7 +2,7 @@
 # Speed-against-accuracy bench (issue 8): drives build/tools/glassmap over seeds, writes CSV + charts.
 #   tools/bench.sh --quick                 # CI-sized, a few minutes -> build-bench-quick/
 #   tools/bench.sh                         # full mode -> docs/results/ (logs cached in docs/results/work, not committed)
-#   tools/bench.sh --sections loc --seeds 3 --out /tmp/r --glassmap build-rel/tools/glassmap
+#   tools/bench.sh --sections loc --seeds 3 --out out/r --glassmap build-rel/tools/glassmap
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 py=python3
