@@ -121,8 +121,6 @@ void run(MapArgs& args) {
   if (use_mrf) {
     if (show_progress) std::cerr << "mrf...\n";
     refined = mrf::refine(result.evidence, args.mrf);
-    result.stats.glass_cells = result.evidence.countGlass();
-    result.stats.occupied_cells = result.evidence.countOccupied();
   }
   glass::PhantomStats phantom;
   double seconds_phantoms = 0.0;
@@ -131,8 +129,6 @@ void run(MapArgs& args) {
     const auto tp = std::chrono::steady_clock::now();
     phantom = glass::suppressMirrorPhantoms(log, args.options.beams, args.phantom, result.evidence);
     seconds_phantoms = std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
-    result.stats.glass_cells = result.evidence.countGlass();
-    result.stats.occupied_cells = result.evidence.countOccupied();
   }
   const glass::CellEvidence& e = result.evidence;
   vector::VectorizeResult floorplan;
@@ -144,9 +140,11 @@ void run(MapArgs& args) {
   std::size_t pruned = 0;
   if (args.prune_glass) {
     pruned = vector::pruneUnfittedGlass(result.evidence, floorplan.map);
-    result.stats.glass_cells = result.evidence.countGlass();
-    result.stats.occupied_cells = result.evidence.countOccupied();
   }
+
+  // The later steps relabel cells: count what is written.
+  result.stats.glass_cells = result.evidence.countGlass();
+  result.stats.occupied_cells = result.evidence.countOccupied();
 
   const fs::path dir(args.out);
   fs::create_directories(dir);

@@ -33,13 +33,6 @@ std::vector<Indexed> ofMaterial(const VectorMap& map, Material m, double grow) {
   return out;
 }
 
-double distanceToSegment(const Vec2& p, const MapSegment& s) {
-  const Vec2 ab = s.b - s.a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((p - s.a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (p - (s.a + t * ab)).norm();
-}
-
 // Nearest segment of `others` within tol of p, or -1.
 std::ptrdiff_t nearestWithin(const Vec2& p, const std::vector<Indexed>& others, double tol) {
   std::ptrdiff_t best = -1;
@@ -47,7 +40,7 @@ std::ptrdiff_t nearestWithin(const Vec2& p, const std::vector<Indexed>& others, 
   for (std::size_t k = 0; k < others.size(); ++k) {
     const Box2& b = others[k].box;
     if (p.x() < b.min.x() || p.y() < b.min.y() || p.x() > b.max.x() || p.y() > b.max.y()) continue;
-    const double d = distanceToSegment(p, *others[k].s);
+    const double d = others[k].s->distanceTo(p);
     if (d <= best_d) best_d = d, best = static_cast<std::ptrdiff_t>(k);
   }
   return best;

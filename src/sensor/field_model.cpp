@@ -6,17 +6,6 @@
 #include "glassmap/core/error.hpp"
 
 namespace glassmap::sensor {
-namespace {
-
-double pointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double s = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (p - (a + s * ab)).norm();
-}
-
-}  // namespace
-
 DistanceGrid::DistanceGrid(const VectorMap& map, bool use_glass, double resolution, double max_dist)
     : res_(resolution), inv_res_(1.0 / resolution), max_dist_(max_dist) {
   if (!(resolution > 0) || !(max_dist > 0))
@@ -49,7 +38,7 @@ DistanceGrid::DistanceGrid(const VectorMap& map, bool use_glass, double resoluti
       for (int i = i0; i <= i1; ++i) {
         const Vec2 c = origin_ + res_ * Vec2(i, j);
         float& cell = d_[static_cast<std::size_t>(j) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(i)];
-        cell = std::min(cell, static_cast<float>(pointSegmentDistance(c, s.a, s.b)));
+        cell = std::min(cell, static_cast<float>(s.distanceTo(c)));
       }
   }
 }
@@ -74,7 +63,7 @@ double DistanceGrid::distance(const Vec2& p) const {
 
 double DistanceGrid::exactDistance(const Vec2& p) const {
   double best = max_dist_;
-  for (const MapSegment& s : segs_) best = std::min(best, pointSegmentDistance(p, s.a, s.b));
+  for (const MapSegment& s : segs_) best = std::min(best, s.distanceTo(p));
   return best;
 }
 

@@ -66,8 +66,7 @@ void rasterize(LabelGrid& grid, const VectorMap& map, double min_thickness) {
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
         const Vec2 c = grid.center(x, y);
-        const double t = len2 > 0 ? std::clamp((c - s.a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-        const Vec2 foot = s.a + t * ab;
+        const Vec2 foot = s.closestPoint(c);
         const Vec2 off = (c - foot).cwiseAbs();
         if ((c - foot).norm() <= half || (off.x() <= 0.5 * res && off.y() <= 0.5 * res))
           grid.codes[static_cast<std::size_t>(y) * grid.width + x] = code;

@@ -54,13 +54,6 @@ VectorMap loadMap() {
   return map;
 }
 
-double distanceToSegment(const Vec2& p, const MapSegment& s) {
-  const Vec2 d = s.b - s.a;
-  const double len2 = d.squaredNorm();
-  const double u = len2 > 0 ? std::clamp((p - s.a).dot(d) / len2, 0.0, 1.0) : 0.0;
-  return (p - (s.a + u * d)).norm();
-}
-
 struct Query {
   VectorMap map;
   RayCaster caster;
@@ -81,7 +74,7 @@ Query& query() {
       const Vec2 p(ux(rng), uy(rng));
       bool free = true;
       for (const auto& s : map.segments) {
-        if (distanceToSegment(p, s) < kClearance) {
+        if (s.distanceTo(p) < kClearance) {
           free = false;
           break;
         }

@@ -1,6 +1,7 @@
 #pragma once
 /// A floorplan of line segments, each wall or glass with a thickness: the map every stage shares.
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -34,6 +35,15 @@ struct MapSegment {
   double length() const { return (b - a).norm(); }
   /// Unit direction a -> b (undefined for zero length).
   Vec2 direction() const { return (b - a).normalized(); }
+  /// Point of the segment nearest to p (a for a zero-length segment).
+  Vec2 closestPoint(const Vec2& p) const {
+    const Vec2 ab = b - a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    return a + t * ab;
+  }
+  /// Distance from p to the segment [m].
+  double distanceTo(const Vec2& p) const { return (p - closestPoint(p)).norm(); }
 };
 
 /// Axis-aligned box [m].

@@ -1,4 +1,6 @@
-// libFuzzer target: floorplan reader through GDAL/OGR, input as a .dxf file.
+// libFuzzer target: floorplan reader through GDAL/OGR. Built twice (tests/fuzz/CMakeLists.txt):
+// the input is written with the extension GLASSMAP_FUZZ_EXT (".dxf" or ".geojson"), which picks the
+// driver and, for DXF, the pre-check.
 #include <cstddef>
 #include <cstdint>
 
@@ -15,7 +17,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const auto path = glassmap::fuzz::writeScratch("input.dxf", data, size);
+  const auto path = glassmap::fuzz::writeScratch("input" GLASSMAP_FUZZ_EXT, data, size);
   try {
     (void)glassmap::readFloorplan(path);
   } catch (const glassmap::Error&) {
