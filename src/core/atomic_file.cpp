@@ -70,7 +70,9 @@ void removeSlot(const Slot& s) noexcept {
   }
   ::unlink(s.path);
   char side[kPathMax];
-  for (const char* suffix : {"-journal", "-wal", "-shm"}) {
+  // Sidecars the writers make beside a file: SQLite's (GeoPackage) and the entity spool GDAL's
+  // DXF writer keeps as "<file>.tmp" until it closes.
+  for (const char* suffix : {"-journal", "-wal", "-shm", ".tmp"}) {
     if (joinPath(side, s.path, suffix)) ::unlink(side);
   }
 }

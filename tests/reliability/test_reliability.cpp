@@ -114,6 +114,20 @@ void expectErrorWith(F&& f, const std::string& part) {
   }
 }
 
+/// Expects `f` to throw an Error naming `field` (and `line`, when not 0).
+template <class F>
+void expectErrorAt(F&& f, const std::string& field, std::size_t line = 0) {
+  try {
+    f();
+    ADD_FAILURE() << "no Error; expected one naming field '" << field << "'";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), field) << e.what();
+    if (line != 0) {
+      EXPECT_EQ(e.line(), line) << e.what();
+    }
+  }
+}
+
 /// A FLASER line with the given range tokens (count as declared), pose (1, 2, 0), time t.
 std::string flaser(const std::vector<std::string>& ranges, double t, long declared = -1) {
   std::string line = "FLASER " + std::to_string(declared < 0 ? static_cast<long>(ranges.size()) : declared);
@@ -145,30 +159,14 @@ TEST(HostileLog, NonFiniteNegativeAndAbsurdRangesBecomeCountedNoReturns) {
 TEST(HostileLog, NonFinitePoseOrTimestampIsAnErrorNamingTheField) {
   TempDir dir;
   const auto bad_pose = dir.write("p.clf", "FLASER 2 1 1 nan 2 0 1 2 0 5 host 5\n");
-  try {
-    readCarmenLog(bad_pose);
-    ADD_FAILURE();
-  } catch (const Error& e) {
-    EXPECT_EQ(e.line(), 1u);
-    EXPECT_EQ(e.field(), "x");
-  }
+  expectErrorAt([&] { readCarmenLog(bad_pose); }, "x", 1);
   const auto bad_time = dir.write("t.clf", "ODOM 1 2 0 0 0 0 inf host 5\n");
-  try {
-    CarmenReadOptions opt;
-    opt.require_scans = false;
-    readCarmenLog(bad_time, opt);
-    ADD_FAILURE();
-  } catch (const Error& e) {
-    EXPECT_EQ(e.field(), "timestamp");
-  }
+  CarmenReadOptions no_scans;
+  no_scans.require_scans = false;
+  expectErrorAt([&] { readCarmenLog(bad_time, no_scans); }, "timestamp");
   const auto bad_range_cfg =
       dir.write("c.clf", "ROBOTLASER1 0 -1.57 3.14 0.0174 nan 0.01 0 2 1 1 1 2 0 1 2 0 0 0 0 0 0 7 host 7\n");
-  try {
-    readCarmenLog(bad_range_cfg);
-    ADD_FAILURE();
-  } catch (const Error& e) {
-    EXPECT_EQ(e.field(), "maximum_range");
-  }
+  expectErrorAt([&] { readCarmenLog(bad_range_cfg); }, "maximum_range");
 }
 
 TEST(HostileLog, BeamCountsThatDisagreeWithTheHeaderAreErrors) {
@@ -177,13 +175,7 @@ TEST(HostileLog, BeamCountsThatDisagreeWithTheHeaderAreErrors) {
   for (long declared : {3L, 5L, 100L}) {
     SCOPED_TRACE(declared);
     const auto p = dir.write("n" + std::to_string(declared) + ".clf", "# c\n" + flaser(four, 1.0, declared));
-    try {
-      readCarmenLog(p);
-      ADD_FAILURE();
-    } catch (const Error& e) {
-      EXPECT_EQ(e.line(), 2u);
-      EXPECT_EQ(e.field(), "num_readings");
-    }
+    expectErrorAt([&] { readCarmenLog(p); }, "num_readings", 2);
   }
   // Absurd or negative counts are refused before anything is allocated.
   expectErrorWith([&] { readCarmenLog(dir.write("huge.clf", flaser(four, 1.0, 4'000'000'000L))); },
@@ -562,6 +554,7 @@ TEST(Interrupted, SignalRemovesARegisteredTemporaryFolderAndSqliteSidecars) {
   TempDir dir;
   const fs::path folder = dir / ".parts.tmp1-0.dir";
   const fs::path gpkg = dir / ".out.tmp1-1.gpkg";
+  const fs::path dxf = dir / ".plan.tmp1-2.dxf";
   const int status = inChild([&] {
     installSignalCleanup();
     fs::create_directory(folder);
@@ -570,12 +563,17 @@ TEST(Interrupted, SignalRemovesARegisteredTemporaryFolderAndSqliteSidecars) {
     for (const char* f : {"a.shp", "a.shx", "a.dbf", "a.prj"}) std::ofstream(folder / f) << "x";
     std::ofstream(gpkg) << "x";
     std::ofstream(gpkg.string() + "-journal") << "x";
+    const LiveTemporary live_dxf(dxf);
+    std::ofstream(dxf) << "x";
+    std::ofstream(dxf.string() + ".tmp") << "x";  // GDAL's DXF writer spools entities there
     ::raise(SIGTERM);
   });
   ASSERT_TRUE(WIFSIGNALED(status));
   EXPECT_FALSE(fs::exists(folder));
   EXPECT_FALSE(fs::exists(gpkg));
   EXPECT_FALSE(fs::exists(gpkg.string() + "-journal"));
+  EXPECT_FALSE(fs::exists(dxf));
+  EXPECT_FALSE(fs::exists(dxf.string() + ".tmp"));
 }
 
 TEST(Interrupted, AnIgnoredSignalStaysIgnoredAndAFinishedWriteIsKept) {

@@ -32,8 +32,8 @@ class LiveTemporary {
 };
 
 /// Installs SIGINT, SIGTERM and SIGHUP handlers (not over a signal the process ignores) that
-/// remove every live temporary (files, SQLite's -journal/-wal/-shm sidecars, registered
-/// folders) with async-signal-safe calls, then re-raise the signal with its default action, so
+/// remove every live temporary (files, SQLite's -journal/-wal/-shm sidecars, the ".tmp" entity
+/// spool of GDAL's DXF writer, registered folders) with async-signal-safe calls, then re-raise the signal with its default action, so
 /// the process still dies of it and an interrupted write leaves the old target or none. Call
 /// once from main(); idempotent.
 void installSignalCleanup();
