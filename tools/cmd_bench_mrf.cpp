@@ -40,7 +40,7 @@ void run(const BenchMrfArgs& args) {
   mrf::LabelEnergy e;
   std::vector<uint16_t> truth;
   if (args.instance.empty()) {
-    auto inst = mrf::makeSyntheticInstance(args.synth, mrf::psiByName(args.psi, mrf::kGlassBins));
+    auto inst = mrf::makeSyntheticInstance(args.synth, mrf::psiTable(mrf::parsePsi(args.psi), kDefaultBins));
     e = std::move(inst.energy);
     truth = std::move(inst.truth);
   } else {
@@ -65,7 +65,7 @@ void run(const BenchMrfArgs& args) {
   std::vector<Row> rows;
   auto runOne = [&](const std::string& label, const std::string& solver, const mrf::MrfOptions& o) {
     std::vector<uint16_t> labels = start;
-    const mrf::MrfResult r = mrf::makeSolver(solver, o)->solve(e, labels);
+    const mrf::MrfResult r = mrf::makeSolver(mrf::parseSolver(solver), o)->solve(e, labels);
     const int64_t check = mrf::energy(e, labels);
     if (check != r.energy)
       throw Error(label + ": tracked energy " + std::to_string(r.energy) + " != recomputed " +

@@ -22,10 +22,10 @@ void run(const ConvertArgs& args) {
   if (map.segments.empty()) throw Error("no line segments found in floorplan", args.in);
   writeFloorplan(args.out, map);
   if (args.quiet) return;
-  const Box2 b = map.bounds();
+  const Eigen::AlignedBox2d b = map.bounds();
   std::printf("read %s: %zu segments (%zu wall, %zu glass), x %.3f .. %.3f m, y %.3f .. %.3f m\n",
               args.in.c_str(), map.segments.size(), map.count(Material::Wall), map.count(Material::Glass),
-              b.min.x(), b.max.x(), b.min.y(), b.max.y());
+              b.min().x(), b.max().x(), b.min().y(), b.max().y());
   std::printf("wrote %s (%s)\n", args.out.c_str(), std::string(gdalDriverName(format)).c_str());
 }
 

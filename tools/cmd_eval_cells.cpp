@@ -9,7 +9,7 @@
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/eval/cells.hpp"
-#include "glassmap/glass/labels.hpp"
+#include "glassmap/core/labels.hpp"
 #include "glassmap/io/floorplan.hpp"
 #include "glassmap/io/labels_raster.hpp"
 
@@ -39,8 +39,8 @@ void run(const EvalCellsArgs& args) {
   g.resolution = raster.resolution;
   g.origin = raster.origin;
   std::vector<std::uint8_t> labels(raster.codes.size());
-  for (std::size_t i = 0; i < labels.size(); ++i) labels[i] = static_cast<std::uint8_t>(glass::codeToLabel(raster.codes[i]));
-  const eval::CellEvalResult r = eval::evaluateCells(truth, g, labels, glass::kDefaultBins, args.options);
+  for (std::size_t i = 0; i < labels.size(); ++i) labels[i] = static_cast<std::uint8_t>(codeToLabel(raster.codes[i]));
+  const eval::CellEvalResult r = eval::evaluateCells(truth, g, labels, kDefaultBins, args.options);
 
   const nlohmann::json j = {
       {"truth", args.truth},

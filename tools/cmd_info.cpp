@@ -53,9 +53,9 @@ void run(const InfoArgs& args) {
     j["time_reversals"] = s.time_reversals;
     j["distance_travelled_m"] = s.distance;
     j["odometry_distance_m"] = s.odometry_distance;
-    if (!s.pose_bounds.empty()) {
-      j["pose_bounds_m"] = {{"min", {s.pose_bounds.min.x(), s.pose_bounds.min.y()}},
-                            {"max", {s.pose_bounds.max.x(), s.pose_bounds.max.y()}}};
+    if (!s.pose_bounds.isEmpty()) {
+      j["pose_bounds_m"] = {{"min", {s.pose_bounds.min().x(), s.pose_bounds.min().y()}},
+                            {"max", {s.pose_bounds.max().x(), s.pose_bounds.max().y()}}};
     } else {
       j["pose_bounds_m"] = nullptr;
     }
@@ -99,10 +99,10 @@ void run(const InfoArgs& args) {
   row("duration", buf);
   std::snprintf(buf, sizeof buf, "%.1f m (laser poses); odometry %.1f m", s.distance, s.odometry_distance);
   row("distance travelled", buf);
-  if (!s.pose_bounds.empty()) {
-    const Vec2 size = s.pose_bounds.max - s.pose_bounds.min;
-    std::snprintf(buf, sizeof buf, "x %.2f .. %.2f m, y %.2f .. %.2f m (%.1f x %.1f m)", s.pose_bounds.min.x(),
-                  s.pose_bounds.max.x(), s.pose_bounds.min.y(), s.pose_bounds.max.y(), size.x(), size.y());
+  if (!s.pose_bounds.isEmpty()) {
+    const Vec2 size = s.pose_bounds.max() - s.pose_bounds.min();
+    std::snprintf(buf, sizeof buf, "x %.2f .. %.2f m, y %.2f .. %.2f m (%.1f x %.1f m)", s.pose_bounds.min().x(),
+                  s.pose_bounds.max().x(), s.pose_bounds.min().y(), s.pose_bounds.max().y(), size.x(), size.y());
     row("pose bounds", buf);
   }
   row("odometry records", std::to_string(s.stats.odometry));

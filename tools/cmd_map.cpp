@@ -11,7 +11,7 @@
 #include "glassmap/core/error.hpp"
 #include "glassmap/glass/mapping.hpp"
 #include "glassmap/glass/phantoms.hpp"
-#include "glassmap/glass/render.hpp"
+#include "glassmap/io/render_labels.hpp"
 #include "glassmap/io/carmen.hpp"
 #include "glassmap/io/labels_raster.hpp"
 #include "glassmap/io/ros_map.hpp"
@@ -50,7 +50,7 @@ OccupancyGridMap toRosMap(const glass::CellEvidence& e) {
   m.data.resize(e.label.size());
   for (std::size_t i = 0; i < e.label.size(); ++i) {
     const int l = e.label[i];
-    m.data[i] = l == glass::kUnknown ? std::int8_t{-1} : l == glass::kEmpty ? std::int8_t{0} : std::int8_t{100};
+    m.data[i] = l == kUnknown ? std::int8_t{-1} : l == kEmpty ? std::int8_t{0} : std::int8_t{100};
   }
   return m;
 }
@@ -62,7 +62,7 @@ LabelRaster toLabelRaster(const glass::CellEvidence& e) {
   r.resolution = e.geometry.resolution;
   r.origin = e.geometry.origin;
   r.codes.resize(e.label.size());
-  for (std::size_t i = 0; i < e.label.size(); ++i) r.codes[i] = glass::labelToCode(e.label[i]);
+  for (std::size_t i = 0; i < e.label.size(); ++i) r.codes[i] = labelToCode(e.label[i]);
   return r;
 }
 
@@ -150,7 +150,7 @@ void run(MapArgs& args) {
   fs::create_directories(dir);
   writeRosMap(dir / "map.yaml", toRosMap(e));
   writeLabelRaster(dir / "labels.tif", toLabelRaster(e));
-  glass::writeLabelsPng(dir / "map.png", e.geometry.width, e.geometry.height, e.label, e.bins);
+  writeLabelsPng(dir / "map.png", e.geometry.width, e.geometry.height, e.label, e.bins);
   if (args.vectorize) vector::writeFloorplanSet(dir / "floorplan", floorplan.map);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::size_t peak = cli::peakMemoryBytes();

@@ -44,7 +44,7 @@ nlohmann::json sceneJson(const sim::Scene& s) {
            {{"model", l.model}, {"fov_deg", rad2deg(l.fov)}, {"resolution_deg", rad2deg(l.resolution)},
             {"max_range", l.max_range}, {"rate", l.rate}, {"range_sigma", l.range_sigma}}},
           {"glass",
-           {{"n_glass", g.n_glass}, {"direct_sigma_deg", rad2deg(g.direct_sigma)}, {"direct_peak", g.direct_peak},
+           {{"n_glass", g.n_glass}, {"direct_sigma_deg", g.direct_sigma_deg}, {"direct_peak", g.direct_peak},
             {"reflection_gain", g.reflection_gain}, {"max_bounces", g.max_bounces}}},
           {"motion",
            {{"odom_trans_sigma", m.odom_trans_sigma}, {"odom_rot_sigma", m.odom_rot_sigma},

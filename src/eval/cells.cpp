@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "glassmap/core/error.hpp"
-#include "glassmap/glass/labels.hpp"
+#include "glassmap/core/labels.hpp"
 #include "glassmap/grid/traversal.hpp"
 
 namespace glassmap::eval {
@@ -29,15 +29,15 @@ std::vector<float> rasteriseGlass(const VectorMap& truth, const grid::GridGeomet
     const float n = static_cast<float>(wrapHalfTurn(std::atan2(d.y(), d.x()) + kPi / 2));
     grid::traverse(g, s.a, s.b, [&](int x, int y, double, bool) { normal[g.index(x, y)] = n; });
     // Cells of the segment beyond the grid: count them by walking a grid grown to cover it.
-    Box2 box;
+    Eigen::AlignedBox2d box;
     box.extend(s.a);
     box.extend(s.b);
     grid::GridGeometry big = g;
-    const int pad_lo_x = std::max(0, static_cast<int>(std::ceil((g.origin.x() - box.min.x()) / g.resolution)) + 1);
-    const int pad_lo_y = std::max(0, static_cast<int>(std::ceil((g.origin.y() - box.min.y()) / g.resolution)) + 1);
+    const int pad_lo_x = std::max(0, static_cast<int>(std::ceil((g.origin.x() - box.min().x()) / g.resolution)) + 1);
+    const int pad_lo_y = std::max(0, static_cast<int>(std::ceil((g.origin.y() - box.min().y()) / g.resolution)) + 1);
     big.origin = g.origin - Vec2(pad_lo_x * g.resolution, pad_lo_y * g.resolution);
-    big.width = g.width + pad_lo_x + std::max(0, static_cast<int>(std::ceil((box.max.x() - g.maxCorner().x()) / g.resolution)) + 1);
-    big.height = g.height + pad_lo_y + std::max(0, static_cast<int>(std::ceil((box.max.y() - g.maxCorner().y()) / g.resolution)) + 1);
+    big.width = g.width + pad_lo_x + std::max(0, static_cast<int>(std::ceil((box.max().x() - g.maxCorner().x()) / g.resolution)) + 1);
+    big.height = g.height + pad_lo_y + std::max(0, static_cast<int>(std::ceil((box.max().y() - g.maxCorner().y()) / g.resolution)) + 1);
     grid::traverse(big, s.a, s.b, [&](int x, int y, double, bool) {
       if (!g.contains(x - pad_lo_x, y - pad_lo_y)) ++out;
     });
@@ -55,14 +55,14 @@ CellEvalResult evaluateCells(const VectorMap& truth, const grid::GridGeometry& g
   const std::vector<float> normal = rasteriseGlass(truth, g, &r.truth_outside);
   const int tol = o.tolerance_cells;
   const double bin_rad = kPi / bins;
-  auto isPredicted = [&](int x, int y) { return glass::isGlass(labels[g.index(x, y)]); };
+  auto isPredicted = [&](int x, int y) { return isGlass(labels[g.index(x, y)]); };
   std::size_t exact_pred = 0;  // predicted cells on a true cell
   double angle_sum = 0.0;
   for (int y = 0; y < g.height; ++y) {
     for (int x = 0; x < g.width; ++x) {
       const std::size_t i = g.index(x, y);
       const bool is_true = !std::isnan(normal[i]);
-      const bool is_pred = glass::isGlass(labels[i]);
+      const bool is_pred = isGlass(labels[i]);
       if (is_true) {
         ++r.ground_truth;
         if (is_pred) {
@@ -96,7 +96,7 @@ CellEvalResult evaluateCells(const VectorMap& truth, const grid::GridGeometry& g
           ++r.false_positives;
         } else {
           ++r.found;
-          const double pred_n = glass::glassBin(labels[i]) * bin_rad;
+          const double pred_n = glassBin(labels[i]) * bin_rad;
           angle_sum += std::abs(angleDiff(2.0 * pred_n, 2.0 * best_n)) / 2.0;  // modulo pi
           ++r.angle_cells;
         }

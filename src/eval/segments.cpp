@@ -15,7 +15,7 @@ namespace {
 struct Indexed {
   const MapSegment* s;
   std::size_t index;  // in its map
-  Box2 box;           // grown by the tolerance
+  Eigen::AlignedBox2d box;           // grown by the tolerance
 };
 
 std::vector<Indexed> ofMaterial(const VectorMap& map, Material m, double grow) {
@@ -23,11 +23,11 @@ std::vector<Indexed> ofMaterial(const VectorMap& map, Material m, double grow) {
   for (std::size_t i = 0; i < map.segments.size(); ++i) {
     const MapSegment& s = map.segments[i];
     if (s.material != m) continue;
-    Box2 b;
+    Eigen::AlignedBox2d b;
     b.extend(s.a);
     b.extend(s.b);
-    b.min -= Vec2::Constant(grow);
-    b.max += Vec2::Constant(grow);
+    b.min() -= Vec2::Constant(grow);
+    b.max() += Vec2::Constant(grow);
     out.push_back({&s, i, b});
   }
   return out;
@@ -38,8 +38,8 @@ std::ptrdiff_t nearestWithin(const Vec2& p, const std::vector<Indexed>& others, 
   std::ptrdiff_t best = -1;
   double best_d = tol;
   for (std::size_t k = 0; k < others.size(); ++k) {
-    const Box2& b = others[k].box;
-    if (p.x() < b.min.x() || p.y() < b.min.y() || p.x() > b.max.x() || p.y() > b.max.y()) continue;
+    const Eigen::AlignedBox2d& b = others[k].box;
+    if (p.x() < b.min().x() || p.y() < b.min().y() || p.x() > b.max().x() || p.y() > b.max().y()) continue;
     const double d = others[k].s->distanceTo(p);
     if (d <= best_d) best_d = d, best = static_cast<std::ptrdiff_t>(k);
   }

@@ -68,7 +68,7 @@ RayCaster::RayCaster(const VectorMap& map, RayCasterOptions options) : map_(map)
   const std::size_t n = map_.segments.size();
   segs_.resize(n);
   materials_.resize(n);
-  Box2 box;
+  Eigen::AlignedBox2d box;
   double total_length = 0.0;
   std::size_t valid = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -91,8 +91,8 @@ RayCaster::RayCaster(const VectorMap& map, RayCasterOptions options) : map_(map)
     cell_start_.assign(1, 0);
     return;
   }
-  const double width = box.max.x() - box.min.x();
-  const double height = box.max.y() - box.min.y();
+  const double width = box.max().x() - box.min().x();
+  const double height = box.max().y() - box.min().y();
   const double extent = std::max({width, height, 1e-6});
   if (!std::isfinite(extent))  // coordinates near +-1.8e308: the grid's size overflows
     throw Error("the map's extent overflows a double: a coordinate is beyond +-1e307 m", {}, 0, "segments");
@@ -109,7 +109,7 @@ RayCaster::RayCaster(const VectorMap& map, RayCasterOptions options) : map_(map)
   // segments are listed, so a hit on (or within rounding of) a cell border is in both cells.
   const double eps = 1e-6 * cell;
   const double pad = 2 * eps;
-  origin_ = box.min - Vec2::Constant(pad);
+  origin_ = box.min() - Vec2::Constant(pad);
   nx_ = std::max(1, static_cast<int>(std::ceil((width + 2 * pad) * inv_cell_)));
   ny_ = std::max(1, static_cast<int>(std::ceil((height + 2 * pad) * inv_cell_)));
   top_ = origin_ + Vec2(nx_ * cell, ny_ * cell);

@@ -19,8 +19,8 @@ Material parseMaterial(std::string_view s) {
   throw Error("unknown material '" + std::string(s) + "' (expected wall or glass)", {}, 0, "material");
 }
 
-Box2 VectorMap::bounds() const {
-  Box2 box;
+Eigen::AlignedBox2d VectorMap::bounds() const {
+  Eigen::AlignedBox2d box;
   for (const auto& s : segments) {
     box.extend(s.a);
     box.extend(s.b);

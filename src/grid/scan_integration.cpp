@@ -9,13 +9,13 @@ namespace glassmap::grid {
 
 GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOptions& options,
                             double margin) {
-  Box2 box;
+  Eigen::AlignedBox2d box;
   for (const LaserScan& scan : log.scans) {
     box.extend(scan.laser_pose.t);
     forEachBeam(scan, options, [&](const Beam& beam) { box.extend(beam.to); });
   }
-  if (box.empty()) throw Error("the log holds no scan to map");
-  return coveringGeometry(box.min, box.max, resolution, margin);
+  if (box.isEmpty()) throw Error("the log holds no scan to map");
+  return coveringGeometry(box.min(), box.max(), resolution, margin);
 }
 
 namespace {

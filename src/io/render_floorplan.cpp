@@ -26,13 +26,13 @@ constexpr std::uint32_t kTrajectoryColour = 0xd62728;
 }  // namespace
 
 void renderFloorplan(const std::filesystem::path& out, const VectorMap& map, const FloorplanPicture& pic) {
-  Box2 box = map.bounds();
+  Eigen::AlignedBox2d box = map.bounds();
   for (const Vec2& p : pic.trajectory) box.extend(p);
   for (const ColoredPoint& p : pic.points) box.extend(p.p);
-  if (box.empty()) throw Error("nothing to draw: the floorplan is empty", out.string());
-  box.min -= Vec2::Constant(pic.margin);
-  box.max += Vec2::Constant(pic.margin);
-  const Vec2 size = box.max - box.min;
+  if (box.isEmpty()) throw Error("nothing to draw: the floorplan is empty", out.string());
+  box.min() -= Vec2::Constant(pic.margin);
+  box.max() += Vec2::Constant(pic.margin);
+  const Vec2 size = box.max() - box.min();
   const double scale = std::min(pic.pixels_per_metre, pic.max_pixels / std::max(size.x(), size.y()));
   const int legend_h = pic.legend ? 28 : 0;
   const int w = std::max(1, static_cast<int>(std::ceil(size.x() * scale)));
@@ -55,7 +55,7 @@ void renderFloorplan(const std::filesystem::path& out, const VectorMap& map, con
     cairo_paint(cr);
     // Map frame -> image: x right, y up.
     const auto px = [&](const Vec2& p) {
-      return std::pair<double, double>((p.x() - box.min.x()) * scale, (box.max.y() - p.y()) * scale);
+      return std::pair<double, double>((p.x() - box.min().x()) * scale, (box.max().y() - p.y()) * scale);
     };
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
     for (const ColoredPoint& p : pic.points) {

@@ -14,12 +14,12 @@
 namespace glassmap {
 
 void renderFloorplanPdf(const std::filesystem::path& out, const VectorMap& map, const PdfLayout& layout) {
-  const Box2 box = map.bounds();
-  if (box.empty()) throw Error("nothing to draw: the floorplan is empty", out.string());
+  const Eigen::AlignedBox2d box = map.bounds();
+  if (box.isEmpty()) throw Error("nothing to draw: the floorplan is empty", out.string());
   if (!(layout.scale > 0) || !(layout.max_side_mm > 2 * layout.margin_mm))
     throw Error("bad PDF layout (scale and page size must be positive)", out.string());
   constexpr double kPtPerMm = 72.0 / 25.4;
-  const Vec2 size = (box.max - box.min).cwiseMax(Vec2::Constant(1e-3));
+  const Vec2 size = (box.max() - box.min()).cwiseMax(Vec2::Constant(1e-3));
   // Paper millimetres per metre at 1:scale, lowered to a round scale when the drawing is too big.
   double scale = layout.scale;
   const double usable = layout.max_side_mm - 2 * layout.margin_mm;
@@ -47,7 +47,7 @@ void renderFloorplanPdf(const std::filesystem::path& out, const VectorMap& map, 
         cairo_set_source_rgb(cr, 0.125, 0.125, 0.125);
       cairo_set_line_width(cr, std::max(0.25, s.thickness * pt_per_m));
       const auto px = [&](const Vec2& p) {
-        return std::pair<double, double>(margin + (p.x() - box.min.x()) * pt_per_m, margin + (box.max.y() - p.y()) * pt_per_m);
+        return std::pair<double, double>(margin + (p.x() - box.min().x()) * pt_per_m, margin + (box.max().y() - p.y()) * pt_per_m);
       };
       const auto [ax, ay] = px(s.a);
       const auto [bx, by] = px(s.b);

@@ -62,11 +62,11 @@ ParticleFilter::ParticleFilter(const sensor::SensorModel& model, FilterOptions o
   opt_.min_particles = std::clamp(opt_.min_particles, 1, opt_.max_particles);
   // Free space: cells of the map's bounding box at least free_clearance from every segment.
   const VectorMap& map = model_.map();
-  const Box2 box = map.bounds();
-  if (!box.empty()) {
+  const Eigen::AlignedBox2d box = map.bounds();
+  if (!box.isEmpty()) {
     const sensor::DistanceGrid grid(map, true, free_cell_, std::max(opt_.free_clearance, free_cell_));
-    for (double y = box.min.y() + free_cell_ / 2; y < box.max.y(); y += free_cell_)
-      for (double x = box.min.x() + free_cell_ / 2; x < box.max.x(); x += free_cell_)
+    for (double y = box.min().y() + free_cell_ / 2; y < box.max().y(); y += free_cell_)
+      for (double x = box.min().x() + free_cell_ / 2; x < box.max().x(); x += free_cell_)
         if (grid.distance({x, y}) >= opt_.free_clearance) free_cells_.emplace_back(x, y);
   }
 }
@@ -75,9 +75,9 @@ Pose2 ParticleFilter::randomFreePose() {
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   const double heading = (2.0 * u01(rng_) - 1.0) * kPi;
   if (free_cells_.empty()) {
-    const Box2 box = model_.map().bounds();
-    if (box.empty()) return {0.0, 0.0, heading};
-    return {box.min + (box.max - box.min).cwiseProduct(Vec2(u01(rng_), u01(rng_))), heading};
+    const Eigen::AlignedBox2d box = model_.map().bounds();
+    if (box.isEmpty()) return {0.0, 0.0, heading};
+    return {box.min() + (box.max() - box.min()).cwiseProduct(Vec2(u01(rng_), u01(rng_))), heading};
   }
   std::uniform_int_distribution<std::size_t> pick(0, free_cells_.size() - 1);
   const Vec2 c = free_cells_[pick(rng_)];

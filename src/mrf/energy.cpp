@@ -46,19 +46,29 @@ std::vector<int32_t> paperPsi(int num_glass_bins, double w_diff, double w_glass_
   return makePsi(num_glass_bins, w);
 }
 
-std::vector<int32_t> psiByName(const std::string& name, int num_glass_bins) {
-  if (name == "paper") return paperPsi(num_glass_bins);
-  if (name == "closed") {
-    PsiWeights w;
-    w.glass_occ = w.glass_empty;
-    return makePsi(num_glass_bins, w);
+const char* toString(PsiKind kind) {
+  switch (kind) {
+    case PsiKind::Paper: return "paper";
+    case PsiKind::Closed: return "closed";
+    case PsiKind::Neutral: return "neutral";
   }
-  if (name == "neutral") {
-    PsiWeights w;
-    w.empty_occ = w.glass_empty;
-    return makePsi(num_glass_bins, w);
-  }
+  return "?";
+}
+
+PsiKind parsePsi(const std::string& name) {
+  for (PsiKind k : {PsiKind::Paper, PsiKind::Closed, PsiKind::Neutral})
+    if (name == toString(k)) return k;
   throw Error("unknown Psi '" + name + "' (expected paper, closed or neutral)", {}, 0, "psi");
+}
+
+std::vector<int32_t> psiTable(PsiKind kind, int num_glass_bins) {
+  PsiWeights w;
+  switch (kind) {
+    case PsiKind::Paper: return paperPsi(num_glass_bins);
+    case PsiKind::Closed: w.glass_occ = w.glass_empty; break;
+    case PsiKind::Neutral: w.empty_occ = w.glass_empty; break;
+  }
+  return makePsi(num_glass_bins, w);
 }
 
 void validate(const LabelEnergy& e) {

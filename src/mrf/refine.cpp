@@ -12,10 +12,10 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   RefineResult result;
   const int W = ev.geometry.width, H = ev.geometry.height, L = ev.num_labels;
-  if (L != glass::numLabels(ev.bins)) throw Error("evidence has inconsistent label count");
+  if (L != numLabels(ev.bins)) throw Error("evidence has inconsistent label count");
   if (options.tile < 8) throw Error("MRF tile must be at least 8 cells", {}, 0, "tile");
   if (options.unary_weight <= 0) throw Error("unary weight must be positive", {}, 0, "unary_weight");
-  const std::vector<int32_t> psi = psiByName(options.psi, ev.bins);
+  const std::vector<int32_t> psi = psiTable(options.psi, ev.bins);
   const auto solver = makeSolver(options.solver, options.solve);
   const std::vector<std::uint8_t> before = ev.label;
 
@@ -32,7 +32,7 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
   result.active_cells = ev.cells.size();
 
   const auto fixedLabel = [](std::uint8_t label) -> std::uint16_t {
-    return label == glass::kUnknown ? static_cast<std::uint16_t>(glass::kEmpty) : label;
+    return label == kUnknown ? static_cast<std::uint16_t>(kEmpty) : label;
   };
   LabelEnergy e;
   std::vector<std::uint16_t> labels;

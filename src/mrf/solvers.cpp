@@ -237,14 +237,30 @@ class IcmSolver final : public MrfSolver {
 
 }  // namespace
 
-std::unique_ptr<MrfSolver> makeSolver(const std::string& name, const MrfOptions& options) {
-  if (name == "swap") return std::make_unique<SwapSolver>(options);
-  if (name == "expansion") return std::make_unique<ExpansionSolver>(options);
-  if (name == "icm") return std::make_unique<IcmSolver>(options);
-  throw Error("unknown MRF solver '" + name + "' (expected swap, expansion or icm)", {}, 0,
-              "solver");
+const char* toString(SolverKind kind) {
+  switch (kind) {
+    case SolverKind::Icm: return "icm";
+    case SolverKind::Swap: return "swap";
+    case SolverKind::Expansion: return "expansion";
+  }
+  return "?";
 }
 
-std::vector<std::string> solverNames() { return {"icm", "swap", "expansion"}; }
+SolverKind parseSolver(const std::string& name) {
+  for (SolverKind k : allSolvers())
+    if (name == toString(k)) return k;
+  throw Error("unknown MRF solver '" + name + "' (expected swap, expansion or icm)", {}, 0, "solver");
+}
+
+std::vector<SolverKind> allSolvers() { return {SolverKind::Icm, SolverKind::Swap, SolverKind::Expansion}; }
+
+std::unique_ptr<MrfSolver> makeSolver(SolverKind kind, const MrfOptions& options) {
+  switch (kind) {
+    case SolverKind::Icm: return std::make_unique<IcmSolver>(options);
+    case SolverKind::Swap: return std::make_unique<SwapSolver>(options);
+    case SolverKind::Expansion: return std::make_unique<ExpansionSolver>(options);
+  }
+  throw Error("unknown MRF solver kind", {}, 0, "solver");
+}
 
 }  // namespace glassmap::mrf

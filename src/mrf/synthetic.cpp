@@ -95,7 +95,7 @@ class FloorBuilder {
       const double phi = kdir * 5.0 * std::numbers::pi / 180.0;
       const double len = std::min(rw, rh) * uniform(30, 60) / 100.0;
       const double cx = (r.x0 + r.x1) / 2.0, cy = (r.y0 + r.y1) / 2.0;
-      const uint16_t label = static_cast<uint16_t>(glassLabel((kdir + 18) % kGlassBins));
+      const uint16_t label = static_cast<uint16_t>(glassLabel((kdir + 18) % kDefaultBins));
       for (double t = -len / 2; t <= len / 2; t += 0.25)
         set(static_cast<int>(std::floor(cx + t * std::cos(phi))),
             static_cast<int>(std::floor(cy + t * std::sin(phi))), label);
@@ -112,13 +112,13 @@ class FloorBuilder {
 
 SyntheticInstance makeSyntheticInstance(const SyntheticOptions& o, const std::vector<int32_t>& psi) {
   if (o.width < 8 || o.height < 8) throw Error("synthetic floor too small", {}, 0, "width/height");
-  if (psi.size() != static_cast<std::size_t>(kNumLabels) * kNumLabels)
+  if (psi.size() != static_cast<std::size_t>(numLabels()) * numLabels())
     throw Error("Psi must be 38 x 38", {}, 0, "psi");
   SyntheticInstance inst;
   LabelEnergy& e = inst.energy;
   e.width = o.width;
   e.height = o.height;
-  e.num_labels = kNumLabels;
+  e.num_labels = numLabels();
   e.pairwise = psi;
   inst.truth.assign(e.cells(), kEmpty);
   FloorBuilder(o, inst.truth).build();
@@ -153,23 +153,23 @@ SyntheticInstance makeSyntheticInstance(const SyntheticOptions& o, const std::ve
   std::mt19937_64 rng(o.seed ^ 0x9E3779B97F4A7C15ULL);
   std::normal_distribution<double> gauss(0.0, 1.0);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  e.unary.resize(e.cells() * kNumLabels);
-  double c[kNumLabels];
+  e.unary.resize(e.cells() * numLabels());
+  double c[numLabels()];
   for (std::size_t cell = 0; cell < e.cells(); ++cell) {
     const int t = inst.truth[cell];
     const bool near = dist[cell] <= o.band;
     if (t == kEmpty) {
-      std::fill(c, c + kNumLabels, near ? 4.5 : 8.0);
+      std::fill(c, c + numLabels(), near ? 4.5 : 8.0);
       c[kEmpty] = 0.0;
       c[kOccupied] = near ? 3.0 : 8.0;
     } else if (t == kOccupied) {
-      std::fill(c, c + kNumLabels, 3.5);
+      std::fill(c, c + numLabels(), 3.5);
       c[kEmpty] = 3.0;
       c[kOccupied] = 0.0;
     } else {
       const int k = t - kFirstGlass;
-      for (int j = 0; j < kGlassBins; ++j) {
-        const int dk = std::min((j - k + kGlassBins) % kGlassBins, (k - j + kGlassBins) % kGlassBins);
+      for (int j = 0; j < kDefaultBins; ++j) {
+        const int dk = std::min((j - k + kDefaultBins) % kDefaultBins, (k - j + kDefaultBins) % kDefaultBins);
         c[glassLabel(j)] = dk == 0 ? 0.0 : dk == 1 ? 1.2 : dk == 2 ? 2.5 : 4.5;
       }
       c[kEmpty] = 2.5;
@@ -177,10 +177,10 @@ SyntheticInstance makeSyntheticInstance(const SyntheticOptions& o, const std::ve
     }
     const double sigma = near ? o.noise : 0.3;
     for (double& v : c) v += sigma * gauss(rng);
-    if (near && unit(rng) < o.salt) c[std::uniform_int_distribution<int>(0, kNumLabels - 1)(rng)] -= 3.5;
-    const double lo = *std::min_element(c, c + kNumLabels);
-    for (int l = 0; l < kNumLabels; ++l)
-      e.unary[cell * kNumLabels + l] = static_cast<int32_t>(std::lround((c[l] - lo) * o.unary_scale * kCostScale));
+    if (near && unit(rng) < o.salt) c[std::uniform_int_distribution<int>(0, numLabels() - 1)(rng)] -= 3.5;
+    const double lo = *std::min_element(c, c + numLabels());
+    for (int l = 0; l < numLabels(); ++l)
+      e.unary[cell * numLabels() + l] = static_cast<int32_t>(std::lround((c[l] - lo) * o.unary_scale * kCostScale));
   }
   return inst;
 }

@@ -12,15 +12,15 @@ DistanceGrid::DistanceGrid(const VectorMap& map, bool use_glass, double resoluti
     throw Error("distance grid resolution and max distance must be positive", {}, 0, "field_resolution");
   for (const MapSegment& s : map.segments)
     if (use_glass || s.material == Material::Wall) segs_.push_back(s);
-  Box2 box;
+  Eigen::AlignedBox2d box;
   for (const MapSegment& s : segs_) {
     box.extend(s.a);
     box.extend(s.b);
   }
-  if (box.empty()) box.extend(Vec2::Zero());
+  if (box.isEmpty()) box.extend(Vec2::Zero());
   // Cover the segments plus max_dist and one cell so that bilinear reads stay inside.
-  const Vec2 lo = box.min - Vec2::Constant(max_dist + resolution);
-  const Vec2 hi = box.max + Vec2::Constant(max_dist + resolution);
+  const Vec2 lo = box.min() - Vec2::Constant(max_dist + resolution);
+  const Vec2 hi = box.max() + Vec2::Constant(max_dist + resolution);
   nx_ = static_cast<int>(std::ceil((hi.x() - lo.x()) * inv_res_)) + 1;
   ny_ = static_cast<int>(std::ceil((hi.y() - lo.y()) * inv_res_)) + 1;
   origin_ = lo;
@@ -43,8 +43,8 @@ DistanceGrid::DistanceGrid(const VectorMap& map, bool use_glass, double resoluti
   }
 }
 
-Box2 DistanceGrid::bounds() const {
-  Box2 b;
+Eigen::AlignedBox2d DistanceGrid::bounds() const {
+  Eigen::AlignedBox2d b;
   b.extend(origin_);
   b.extend(origin_ + res_ * Vec2(nx_ - 1, ny_ - 1));
   return b;

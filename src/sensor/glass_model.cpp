@@ -23,7 +23,7 @@ GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& 
   m.d_g = hit.range;
   m.theta_deg = rad2deg(hit.incidence);
   // Paper eq. (2.1): direct-reflection lobe; (2.2): normal reflection; (2.3): refraction.
-  m.w_direct = std::exp(-m.theta_deg * m.theta_deg / (2.0 * params_.sigma_direct_deg2));
+  m.w_direct = std::exp(-m.theta_deg * m.theta_deg / (2.0 * params_.direct_sigma_deg * params_.direct_sigma_deg));
   m.w_normal = std::exp(-params_.lambda_normal * (90.0 - m.theta_deg));
   m.w_refract = std::max(0.0, 1.0 - m.w_normal - m.w_direct);
   m.e_normal = kInf;

@@ -117,7 +117,7 @@ Scene loadScene(const std::filesystem::path& yaml) {
 
   if (const YAML::Node g = root["glass"]) {
     read(g, "n_glass", scene.glass.n_glass, file);
-    readDegrees(g, "direct_sigma_deg", scene.glass.direct_sigma, file);
+    read(g, "direct_sigma_deg", scene.glass.direct_sigma_deg, file);
     read(g, "direct_peak", scene.glass.direct_peak, file);
     read(g, "reflection_gain", scene.glass.reflection_gain, file);
     read(g, "max_bounces", scene.glass.max_bounces, file);

@@ -30,10 +30,10 @@ struct Walker {
   std::vector<Vec2> offsets;  // members around the group centre
 };
 
-Vec2 bounce(const Vec2& p, const Box2& box) {
+Vec2 bounce(const Vec2& p, const Eigen::AlignedBox2d& box) {
   Vec2 out;
   for (int i = 0; i < 2; ++i) {
-    const double lo = box.min[i], span = box.max[i] - box.min[i];
+    const double lo = box.min()[i], span = box.max()[i] - box.min()[i];
     if (span <= 0) {
       out[i] = lo;
       continue;
@@ -45,16 +45,16 @@ Vec2 bounce(const Vec2& p, const Box2& box) {
   return out;
 }
 
-std::vector<Walker> makeWalkers(const PeopleSpec& spec, const Box2& box, std::mt19937_64& rng) {
+std::vector<Walker> makeWalkers(const PeopleSpec& spec, const Eigen::AlignedBox2d& box, std::mt19937_64& rng) {
   std::vector<Walker> walkers;
-  if (spec.density <= 0 || box.empty()) return walkers;
-  const Vec2 size = box.max - box.min;
+  if (spec.density <= 0 || box.isEmpty()) return walkers;
+  const Vec2 size = box.max() - box.min();
   const double people = spec.density * size.x() * size.y() / 100.0;
   const int groups = static_cast<int>(std::lround(people / spec.group_size));
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (int g = 0; g < groups; ++g) {
     Walker w;
-    w.start = box.min + Vec2(u(rng) * size.x(), u(rng) * size.y());
+    w.start = box.min() + Vec2(u(rng) * size.x(), u(rng) * size.y());
     const double heading = 2 * kPi * u(rng);
     w.velocity = spec.speed * Vec2(std::cos(heading), std::sin(heading));
     const Vec2 side(-std::sin(heading), std::cos(heading));
@@ -109,7 +109,8 @@ BeamResult traceBeam(const RayCaster& caster, const Scene& scene, Vec2 origin, V
 
     // Glass. Direct return: the specular echo re-enters the receiver only near normal incidence.
     const double theta = hit.incidence;
-    const double p_direct = glass.direct_peak * std::exp(-theta * theta / (2 * glass.direct_sigma * glass.direct_sigma));
+    const double sigma = deg2rad(glass.direct_sigma_deg);
+    const double p_direct = glass.direct_peak * std::exp(-theta * theta / (2 * sigma * sigma));
     if (uniform(rng) < p_direct) return {path + elongation, BeamOutcome::GlassDirect};
     const Vec2 point = origin + hit.range * dir;
     const MapSegment& pane = caster.map().segments[static_cast<std::size_t>(hit.segment)];
@@ -159,7 +160,7 @@ SimResult simulate(const Scene& scene, const SimOptions& options) {
   std::mt19937_64 odom_rng(mix(options.seed ^ 0x0d0d0d0dULL));
   const std::vector<Pose2> odom = simulateOdometry(truth, scene.motion, odom_rng, kidnapped);
   std::mt19937_64 people_rng(mix(options.seed ^ 0x9e0b1eULL));
-  const Box2 box = scene.map.bounds();
+  const Eigen::AlignedBox2d box = scene.map.bounds();
   const std::vector<Walker> walkers = makeWalkers(scene.people, box, people_rng);
 
   const RayCaster caster(scene.map);

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "glassmap/glass/labels.hpp"
+#include "glassmap/core/labels.hpp"
 
 namespace glassmap::vector {
 
@@ -14,11 +14,11 @@ LabelGrid toLabelGrid(const glass::CellEvidence& e) {
   g.origin = e.geometry.origin;
   g.angle_bin_deg = 180.0 / e.bins;
   g.codes.resize(e.label.size());
-  for (std::size_t i = 0; i < e.label.size(); ++i) g.codes[i] = glass::labelToCode(e.label[i]);
+  for (std::size_t i = 0; i < e.label.size(); ++i) g.codes[i] = labelToCode(e.label[i]);
   g.evidence.assign(e.label.size(), 1.0f);
   for (std::size_t k = 0; k < e.cells.size(); ++k) {
     const int label = e.label[e.cells[k]];
-    if (label == glass::kUnknown || label >= e.num_labels) continue;
+    if (label == kUnknown || label >= e.num_labels) continue;
     g.evidence[e.cells[k]] = std::exp(-e.costs(k)[label]);
   }
   g.validate();
@@ -37,12 +37,12 @@ std::size_t pruneUnfittedGlass(glass::CellEvidence& e, const VectorMap& floorpla
   std::size_t changed = 0;
   for (std::size_t i = 0; i < e.label.size(); ++i) {
     const int label = e.label[i];
-    if (!glass::isGlass(label) || near.codes[i] != kCodeUnknown) continue;
-    int best = glass::kEmpty;
+    if (!isGlass(label) || near.codes[i] != kCodeUnknown) continue;
+    int best = kEmpty;
     const std::int64_t k = e.candidate(static_cast<std::uint32_t>(i));
     if (k >= 0) {
       const float* c = e.costs(static_cast<std::size_t>(k));
-      best = c[glass::kOccupied] < c[glass::kEmpty] ? glass::kOccupied : glass::kEmpty;
+      best = c[kOccupied] < c[kEmpty] ? kOccupied : kEmpty;
     }
     e.label[i] = static_cast<std::uint8_t>(best);
     ++changed;

@@ -24,7 +24,7 @@ struct Comparison {
   mrf::RefineResult refine;
 };
 
-Comparison compare(const std::string& name, std::uint64_t seed, const std::string& psi = "closed") {
+Comparison compare(const std::string& name, std::uint64_t seed, mrf::PsiKind psi = mrf::PsiKind::Closed) {
   const sim::Scene scene = sim::loadScene(fs::path(GLASSMAP_SOURCE_DIR) / "maps" / name / "scene.yaml");
   sim::SimOptions so;
   so.seed = seed;
@@ -38,7 +38,7 @@ Comparison compare(const std::string& name, std::uint64_t seed, const std::strin
   c.refine = mrf::refine(m.evidence, o);
   c.mrf = eval::evaluateCells(scene.map, g, m.evidence.label, m.evidence.bins);
   std::printf("%-15s seed %llu psi %-6s direct F1@2 %.3f (pred %zu) -> mrf F1@2 %.3f (pred %zu), %zu cells changed\n",
-              name.c_str(), static_cast<unsigned long long>(seed), psi.c_str(), c.direct.tolerant.f1,
+              name.c_str(), static_cast<unsigned long long>(seed), mrf::toString(psi), c.direct.tolerant.f1,
               c.direct.predicted, c.mrf.tolerant.f1, c.mrf.predicted, c.refine.changed);
   return c;
 }
@@ -60,7 +60,7 @@ TEST(MrfScenesE2E, RaisesF1OnGlassCorridorAtTwoSeeds) {
 }
 
 TEST(MrfScenesE2E, PaperPsiAlsoCleansAndNoGlassStaysClean) {
-  const Comparison c = compare("no-glass", 1, "paper");
+  const Comparison c = compare("no-glass", 1, mrf::PsiKind::Paper);
   EXPECT_LE(c.mrf.predicted, c.direct.predicted);
   EXPECT_LE(c.mrf.predicted, 2u);
 }

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "glassmap/eval/cells.hpp"
-#include "glassmap/glass/labels.hpp"
+#include "glassmap/core/labels.hpp"
 
 namespace glassmap::eval {
 namespace {
@@ -58,8 +58,8 @@ TEST(Rasterise, MarksCellsOfGlassSegmentsWithTheirNormal) {
 
 TEST(EvaluateCells, PerfectMapScoresOne) {
   const auto g = grid20();
-  std::vector<std::uint8_t> labels(g.cells(), glass::kEmpty);
-  for (int y = 5; y < 15; ++y) labels[g.index(10, y)] = glass::glassLabel(0);
+  std::vector<std::uint8_t> labels(g.cells(), kEmpty);
+  for (int y = 5; y < 15; ++y) labels[g.index(10, y)] = glassLabel(0);
   const CellEvalResult r = evaluateCells(pane(), g, labels);
   EXPECT_EQ(r.ground_truth, 10U);
   EXPECT_EQ(r.predicted, 10U);
@@ -74,13 +74,13 @@ TEST(EvaluateCells, PerfectMapScoresOne) {
 
 TEST(EvaluateCells, CountsTableIColumns) {
   const auto g = grid20();
-  std::vector<std::uint8_t> labels(g.cells(), glass::kEmpty);
-  labels[g.index(10, 5)] = glass::glassLabel(0);   // exact, right angle
-  labels[g.index(10, 6)] = glass::glassLabel(2);   // exact, 10 deg off
-  labels[g.index(12, 9)] = glass::glassLabel(35);  // 2 cells off: displaced find of (10, 9), 5 deg off
-  labels[g.index(13, 12)] = glass::glassLabel(0);  // 3 cells off: false positive
-  labels[g.index(2, 2)] = glass::glassLabel(0);    // false positive
-  labels[g.index(10, 14)] = glass::kOccupied;      // not glass: not found
+  std::vector<std::uint8_t> labels(g.cells(), kEmpty);
+  labels[g.index(10, 5)] = glassLabel(0);   // exact, right angle
+  labels[g.index(10, 6)] = glassLabel(2);   // exact, 10 deg off
+  labels[g.index(12, 9)] = glassLabel(35);  // 2 cells off: displaced find of (10, 9), 5 deg off
+  labels[g.index(13, 12)] = glassLabel(0);  // 3 cells off: false positive
+  labels[g.index(2, 2)] = glassLabel(0);    // false positive
+  labels[g.index(10, 14)] = kOccupied;      // not glass: not found
   const CellEvalResult r = evaluateCells(pane(), g, labels);
   EXPECT_EQ(r.ground_truth, 10U);
   EXPECT_EQ(r.predicted, 5U);
@@ -110,7 +110,7 @@ TEST(EvaluateCells, CountsTableIColumns) {
 
 TEST(EvaluateCells, EmptyPredictionAndBadSize) {
   const auto g = grid20();
-  std::vector<std::uint8_t> labels(g.cells(), glass::kUnknown);
+  std::vector<std::uint8_t> labels(g.cells(), kUnknown);
   const CellEvalResult r = evaluateCells(pane(), g, labels);
   EXPECT_EQ(r.predicted, 0U);
   EXPECT_EQ(r.not_found, 10U);

@@ -79,8 +79,8 @@ std::string describe(const Vec2& o, const Vec2& d, double max_range, int skip) {
 
 // Casts many rays of every kind against `caster` and compares with brute force.
 void compareWithBruteForce(const RayCaster& caster, std::mt19937& rng, int rays) {
-  const Box2 box = caster.map().bounds();
-  const Vec2 size = box.max - box.min;
+  const Eigen::AlignedBox2d box = caster.map().bounds();
+  const Vec2 size = box.max() - box.min();
   std::uniform_real_distribution<double> uni(0.0, 1.0);
   std::uniform_real_distribution<double> angle(-kPi, kPi);
   const auto& segs = caster.map().segments;
@@ -89,8 +89,8 @@ void compareWithBruteForce(const RayCaster& caster, std::mt19937& rng, int rays)
   for (int i = 0; i < rays; ++i) {
     const int kind = i % 8;
     // Origins: mostly inside the bounds, some outside, some exactly on a segment or endpoint.
-    Vec2 o(box.min.x() + (uni(rng) * 1.4 - 0.2) * size.x(),
-           box.min.y() + (uni(rng) * 1.4 - 0.2) * size.y());
+    Vec2 o(box.min().x() + (uni(rng) * 1.4 - 0.2) * size.x(),
+           box.min().y() + (uni(rng) * 1.4 - 0.2) * size.y());
     int skip = -1;
     if (kind == 1 && !segs.empty()) {
       const auto id = static_cast<int>(rng() % segs.size());

@@ -7,7 +7,6 @@
 #include "glassmap/core/error.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
 #include "glassmap/glass/mapping.hpp"
-#include "glassmap/glass/render.hpp"
 
 namespace glassmap::glass {
 namespace {
@@ -179,16 +178,6 @@ TEST(Direct, WallOnlySceneHasNoGlass) {
   const MappingResult r = mapLog(synthLog(map, 5), {});
   EXPECT_LE(r.stats.glass_cells, 3U);
   EXPECT_GT(r.stats.occupied_cells, 200U);
-}
-
-TEST(Render, WritesAPng) {
-  const auto dir = std::filesystem::path(GLASSMAP_BINARY_DIR) / "test_glass_out";
-  std::filesystem::create_directories(dir);
-  std::vector<std::uint8_t> labels = {kUnknown, kEmpty, kOccupied, static_cast<std::uint8_t>(glassLabel(9))};
-  writeLabelsPng(dir / "tiny.png", 2, 2, labels, 36, {});
-  EXPECT_GT(std::filesystem::file_size(dir / "tiny.png"), 50U);
-  EXPECT_THROW(writeLabelsPng(dir / "bad.png", 3, 2, labels, 36, {}), Error);
-  EXPECT_NE(labelColour(glassLabel(0), 36).r, labelColour(glassLabel(18), 36).r);
 }
 
 }  // namespace

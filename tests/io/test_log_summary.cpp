@@ -37,8 +37,8 @@ TEST(IoLogSummary, SyntheticFigures) {
   EXPECT_EQ(s.time_reversals, 1u);
   EXPECT_DOUBLE_EQ(s.distance, 7.0);  // 3 along x, then 4 along y
   EXPECT_DOUBLE_EQ(s.odometry_distance, 5.0);
-  EXPECT_EQ(s.pose_bounds.min, Vec2(0, 0));
-  EXPECT_EQ(s.pose_bounds.max, Vec2(3, 4));
+  EXPECT_EQ(s.pose_bounds.min(), Vec2(0, 0));
+  EXPECT_EQ(s.pose_bounds.max(), Vec2(3, 4));
   EXPECT_EQ(s.stats.skipped_by_type.at("NEFF"), 1u);
   EXPECT_EQ(s.stats.odometry, 2u);
 }
@@ -51,7 +51,7 @@ TEST(IoLogSummary, FreiburgIsPlausible) {
   EXPECT_NEAR(rad2deg(s.fov_max), 179.5, 1e-9);
   EXPECT_DOUBLE_EQ(s.max_range_max, 80.99);
   // A building floor: tens of metres across, a walk of some hundred metres over some minutes.
-  const Vec2 size = s.pose_bounds.max - s.pose_bounds.min;
+  const Vec2 size = s.pose_bounds.max() - s.pose_bounds.min();
   EXPECT_GT(size.x(), 10.0);
   EXPECT_LT(size.x(), 100.0);
   EXPECT_GT(s.distance, 100.0);

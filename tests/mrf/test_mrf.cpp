@@ -18,10 +18,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-enum class PsiKind { Potts, Paper, Random };
+enum class TestPsi { Potts, Paper, Random };
 
 /// Small random instance: unary in [0, 3000], Psi of the given kind over `labels` labels.
-LabelEnergy randomInstance(int w, int h, int labels, PsiKind kind, uint32_t seed) {
+LabelEnergy randomInstance(int w, int h, int labels, TestPsi kind, uint32_t seed) {
   std::mt19937 rng(seed);
   LabelEnergy e;
   e.width = w;
@@ -30,14 +30,14 @@ LabelEnergy randomInstance(int w, int h, int labels, PsiKind kind, uint32_t seed
   e.unary.resize(e.cells() * labels);
   std::uniform_int_distribution<int32_t> u(0, 3000);
   for (auto& v : e.unary) v = u(rng);
-  if (kind == PsiKind::Paper) {
+  if (kind == TestPsi::Paper) {
     e.pairwise = paperPsi(labels - kFirstGlass);
   } else {
     e.pairwise.assign(static_cast<std::size_t>(labels) * labels, 0);
     const int32_t potts = std::uniform_int_distribution<int32_t>(300, 1500)(rng);
     for (int a = 0; a < labels; ++a)
       for (int b = 0; b < a; ++b) {
-        const int32_t v = kind == PsiKind::Potts ? potts : u(rng) / 2;
+        const int32_t v = kind == TestPsi::Potts ? potts : u(rng) / 2;
         e.pairwise[a * labels + b] = e.pairwise[b * labels + a] = v;
       }
   }
@@ -139,12 +139,12 @@ int64_t bestExpansion(const LabelEnergy& e, const std::vector<uint16_t>& labels,
 
 struct Case {
   int w, h, labels;
-  PsiKind kind;
+  TestPsi kind;
 };
 
-const Case kCases[] = {{4, 4, 3, PsiKind::Potts},  {4, 4, 3, PsiKind::Random},
-                       {4, 4, 3, PsiKind::Paper},  {3, 3, 5, PsiKind::Potts},
-                       {3, 3, 5, PsiKind::Random}, {3, 3, 5, PsiKind::Paper}};
+const Case kCases[] = {{4, 4, 3, TestPsi::Potts},  {4, 4, 3, TestPsi::Random},
+                       {4, 4, 3, TestPsi::Paper},  {3, 3, 5, TestPsi::Potts},
+                       {3, 3, 5, TestPsi::Random}, {3, 3, 5, TestPsi::Paper}};
 
 MrfOptions untilNoGain() {
   MrfOptions o;
@@ -157,7 +157,7 @@ MrfOptions untilNoGain() {
 
 TEST(MrfEnergy, TwoIndependentSumsAgree) {
   for (uint32_t seed = 0; seed < 20; ++seed) {
-    const LabelEnergy e = randomInstance(7, 5, 6, PsiKind::Random, seed);
+    const LabelEnergy e = randomInstance(7, 5, 6, TestPsi::Random, seed);
     std::mt19937 rng(seed);
     std::vector<uint16_t> lab(e.cells());
     for (auto& l : lab) l = static_cast<uint16_t>(rng() % 6);
@@ -166,9 +166,9 @@ TEST(MrfEnergy, TwoIndependentSumsAgree) {
 }
 
 TEST(MrfEnergy, PaperPsiValues) {
-  const auto psi = paperPsi(kGlassBins);
+  const auto psi = paperPsi(kDefaultBins);
   LabelEnergy e;
-  e.num_labels = kNumLabels;
+  e.num_labels = numLabels();
   e.pairwise = psi;
   EXPECT_EQ(e.psi(glassLabel(0), glassLabel(1)), 3000);
   EXPECT_EQ(e.psi(glassLabel(7), kEmpty), 600);
@@ -180,13 +180,14 @@ TEST(MrfEnergy, PaperPsiValues) {
   EXPECT_GT(e.psi(glassLabel(0), glassLabel(9)),
             e.psi(glassLabel(0), kOccupied) + e.psi(kOccupied, glassLabel(9)));
   LabelEnergy closed = e;
-  closed.pairwise = psiByName("closed", kGlassBins);
+  closed.pairwise = psiTable(PsiKind::Closed, kDefaultBins);
   EXPECT_EQ(closed.psi(glassLabel(7), kOccupied), 600);
-  EXPECT_THROW(psiByName("metric", kGlassBins), Error);
+  EXPECT_THROW(parsePsi("metric"), Error);
+  EXPECT_EQ(parsePsi(toString(PsiKind::Neutral)), PsiKind::Neutral);
 }
 
 TEST(MrfEnergy, BruteForceBeatsRandomLabellings) {
-  const LabelEnergy e = randomInstance(3, 3, 5, PsiKind::Paper, 3);
+  const LabelEnergy e = randomInstance(3, 3, 5, TestPsi::Paper, 3);
   std::vector<uint16_t> best;
   const int64_t e_min = bruteForce(e, &best);
   EXPECT_EQ(energy(e, best), e_min);
@@ -200,7 +201,7 @@ TEST(MrfEnergy, BruteForceBeatsRandomLabellings) {
 
 TEST(MrfEnergy, LosslessCandidatesKeepTheGlobalMinimum) {
   for (uint32_t seed = 0; seed < 12; ++seed) {
-    LabelEnergy e = randomInstance(3, 3, 5, seed % 2 ? PsiKind::Paper : PsiKind::Random, seed);
+    LabelEnergy e = randomInstance(3, 3, 5, seed % 2 ? TestPsi::Paper : TestPsi::Random, seed);
     for (auto& v : e.unary) v *= 4;  // strong unaries so that pruning removes something
     std::vector<uint16_t> best;
     bruteForce(e, &best);
@@ -211,7 +212,7 @@ TEST(MrfEnergy, LosslessCandidatesKeepTheGlobalMinimum) {
 }
 
 TEST(MrfEnergy, InstanceFileRoundTripAndErrors) {
-  const LabelEnergy e = randomInstance(5, 4, 6, PsiKind::Random, 1);
+  const LabelEnergy e = randomInstance(5, 4, 6, TestPsi::Random, 1);
   const fs::path path = fs::temp_directory_path() / "glassmap_test_mrf_instance.bin";
   writeInstance(path.string(), e);
   EXPECT_EQ(fs::file_size(path), 12U + 4U * (20U * 6U + 36U));
@@ -227,11 +228,14 @@ TEST(MrfEnergy, InstanceFileRoundTripAndErrors) {
   EXPECT_THROW(readInstance(path.string()), Error);
 }
 
-TEST(MrfSolver, UnknownNameIsAnError) { EXPECT_THROW(makeSolver("trws"), Error); }
+TEST(MrfSolver, UnknownNameIsAnError) {
+  EXPECT_THROW(parseSolver("trws"), Error);
+  for (SolverKind k : allSolvers()) EXPECT_EQ(parseSolver(toString(k)), k);
+}
 
 // Property over every solver: never raises E, tracked E equals both direct sums, deterministic.
 TEST(MrfSolver, EverySolverLowersEnergyAndTracksItExactly) {
-  for (const auto& name : solverNames()) {
+  for (const auto& name : allSolvers()) {
     for (uint32_t seed = 0; seed < 8; ++seed) {
       for (const Case& k : kCases) {
         const LabelEnergy e = randomInstance(k.w, k.h, k.labels, k.kind, seed);
@@ -242,13 +246,13 @@ TEST(MrfSolver, EverySolverLowersEnergyAndTracksItExactly) {
         std::vector<uint16_t> lab2 = lab;
         const MrfResult r = makeSolver(name, untilNoGain())->solve(e, lab);
         EXPECT_EQ(r.initial_energy, e0);
-        EXPECT_LE(r.energy, e0) << name;
-        EXPECT_EQ(r.energy, energy(e, lab)) << name;
-        EXPECT_EQ(r.energy, energyOrderedPairs(e, lab)) << name;
-        EXPECT_GE(r.energy, bruteForce(e)) << name;
+        EXPECT_LE(r.energy, e0) << toString(name);
+        EXPECT_EQ(r.energy, energy(e, lab)) << toString(name);
+        EXPECT_EQ(r.energy, energyOrderedPairs(e, lab)) << toString(name);
+        EXPECT_GE(r.energy, bruteForce(e)) << toString(name);
         EXPECT_TRUE(r.converged);
         const MrfResult r2 = makeSolver(name, untilNoGain())->solve(e, lab2);
-        EXPECT_EQ(lab2, lab) << name << " is not deterministic";
+        EXPECT_EQ(lab2, lab) << toString(name) << " is not deterministic";
         EXPECT_EQ(r2.energy, r.energy);
       }
     }
@@ -260,7 +264,7 @@ TEST(MrfSolver, SwapEndsInASwapLocalMinimum) {
     for (const Case& k : kCases) {
       const LabelEnergy e = randomInstance(k.w, k.h, k.labels, k.kind, seed);
       std::vector<uint16_t> lab = argminLabels(e);
-      const MrfResult r = makeSolver("swap", untilNoGain())->solve(e, lab);
+      const MrfResult r = makeSolver(SolverKind::Swap, untilNoGain())->solve(e, lab);
       EXPECT_EQ(r.truncated_terms, 0);  // Psi >= 0 with zero diagonal: every swap is exact
       for (int a = 0; a < k.labels; ++a)
         for (int b = a + 1; b < k.labels; ++b) EXPECT_GE(bestSwap(e, lab, a, b), r.energy);
@@ -274,12 +278,12 @@ TEST(MrfSolver, ExpansionEndsInALocalMinimumOfItsRepresentableMoves) {
     for (const Case& k : kCases) {
       const LabelEnergy e = randomInstance(k.w, k.h, k.labels, k.kind, seed);
       std::vector<uint16_t> lab = argminLabels(e);
-      const MrfResult r = makeSolver("expansion", untilNoGain())->solve(e, lab);
+      const MrfResult r = makeSolver(SolverKind::Expansion, untilNoGain())->solve(e, lab);
       truncated_runs += r.truncated_terms > 0;
       for (int a = 0; a < k.labels; ++a) {
         bool representable = false;
         const int64_t best = bestExpansion(e, lab, a, &representable);
-        if (k.kind == PsiKind::Potts) {
+        if (k.kind == TestPsi::Potts) {
           EXPECT_TRUE(representable);
         }
         if (representable) {
@@ -295,23 +299,23 @@ TEST(MrfSolver, ExpansionEndsInALocalMinimumOfItsRepresentableMoves) {
 
 TEST(MrfSolver, TwoLabelsReachTheGlobalMinimum) {
   for (uint32_t seed = 0; seed < 15; ++seed) {
-    const LabelEnergy e = randomInstance(4, 4, 2, seed % 2 ? PsiKind::Potts : PsiKind::Random, seed);
+    const LabelEnergy e = randomInstance(4, 4, 2, seed % 2 ? TestPsi::Potts : TestPsi::Random, seed);
     const int64_t e_min = bruteForce(e);
-    for (const std::string name : {"swap", "expansion"}) {
+    for (const SolverKind name : {SolverKind::Swap, SolverKind::Expansion}) {
       std::vector<uint16_t> lab = argminLabels(e);
       const MrfResult r = makeSolver(name, untilNoGain())->solve(e, lab);
-      EXPECT_EQ(r.energy, e_min) << name << " seed " << seed;
+      EXPECT_EQ(r.energy, e_min) << toString(name) << " seed " << seed;
     }
   }
 }
 
 TEST(MrfSolver, ExpansionWithinFactorTwoOnPotts) {
   for (uint32_t seed = 0; seed < 10; ++seed) {
-    for (const Case& k : {Case{4, 4, 3, PsiKind::Potts}, Case{3, 3, 5, PsiKind::Potts}}) {
+    for (const Case& k : {Case{4, 4, 3, TestPsi::Potts}, Case{3, 3, 5, TestPsi::Potts}}) {
       const LabelEnergy e = randomInstance(k.w, k.h, k.labels, k.kind, seed);
       const int64_t e_min = bruteForce(e);
       std::vector<uint16_t> lab(e.cells(), 0);
-      const MrfResult r = makeSolver("expansion", untilNoGain())->solve(e, lab);
+      const MrfResult r = makeSolver(SolverKind::Expansion, untilNoGain())->solve(e, lab);
       EXPECT_LE(r.energy, 2 * e_min);
       EXPECT_GE(r.energy, e_min);
     }
@@ -319,23 +323,23 @@ TEST(MrfSolver, ExpansionWithinFactorTwoOnPotts) {
 }
 
 TEST(MrfSolver, InactiveCellsKeepTheirLabel) {
-  LabelEnergy e = randomInstance(6, 6, 4, PsiKind::Random, 5);
+  LabelEnergy e = randomInstance(6, 6, 4, TestPsi::Random, 5);
   e.active.assign(e.cells(), 1);
   for (int x = 0; x < 6; ++x) e.active[2 * 6 + x] = 0;
-  for (const auto& name : solverNames()) {
+  for (const auto& name : allSolvers()) {
     std::vector<uint16_t> lab(e.cells(), 3);
     makeSolver(name, untilNoGain())->solve(e, lab);
-    for (int x = 0; x < 6; ++x) EXPECT_EQ(lab[2 * 6 + x], 3) << name;
+    for (int x = 0; x < 6; ++x) EXPECT_EQ(lab[2 * 6 + x], 3) << toString(name);
   }
 }
 
 TEST(MrfSolver, CandidateSetsAreRespected) {
-  LabelEnergy e = randomInstance(6, 6, 4, PsiKind::Random, 8);
+  LabelEnergy e = randomInstance(6, 6, 4, TestPsi::Random, 8);
   e.candidates.assign(e.cells(), 0b0011);  // labels 0 and 1 only
-  for (const auto& name : solverNames()) {
+  for (const auto& name : allSolvers()) {
     std::vector<uint16_t> lab(e.cells(), 0);
     makeSolver(name, untilNoGain())->solve(e, lab);
-    for (auto l : lab) EXPECT_LE(l, 1) << name;
+    for (auto l : lab) EXPECT_LE(l, 1) << toString(name);
   }
 }
 
@@ -345,32 +349,32 @@ TEST(MrfSolver, CandidateSetsAreRespected) {
 TEST(MrfSolver, NoisyStraightPaneIsCleanedToOnePane) {
   const int w = 24, h = 16, row = 8, k = 18;
   int paper_buffered = 0;
-  for (const std::string psi : {"paper", "closed"}) {
+  for (const PsiKind psi : {PsiKind::Paper, PsiKind::Closed}) {
     for (uint32_t seed = 0; seed < 5; ++seed) {
       LabelEnergy e;
       e.width = w;
       e.height = h;
-      e.num_labels = kNumLabels;
-      e.pairwise = psiByName(psi, kGlassBins);
-      e.unary.assign(e.cells() * kNumLabels, 0);
+      e.num_labels = numLabels();
+      e.pairwise = psiTable(psi, kDefaultBins);
+      e.unary.assign(e.cells() * numLabels(), 0);
       std::mt19937 rng(seed);
       std::uniform_real_distribution<double> unit(0, 1);
-      std::uniform_int_distribution<int> angle(0, kGlassBins - 1);
+      std::uniform_int_distribution<int> angle(0, kDefaultBins - 1);
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-          int32_t* c = &e.unary[(y * w + x) * kNumLabels];
+          int32_t* c = &e.unary[(y * w + x) * numLabels()];
           const bool salted = unit(rng) < 0.15;
           if (y == row) {  // glass, angle k; salt: another angle looks best
-            std::fill(c, c + kNumLabels, 3000);
+            std::fill(c, c + numLabels(), 3000);
             c[kEmpty] = c[kOccupied] = 6000;
             c[glassLabel(k)] = 0;
             if (salted) {
-              const int j = (k + 1 + angle(rng) % (kGlassBins - 1)) % kGlassBins;
+              const int j = (k + 1 + angle(rng) % (kDefaultBins - 1)) % kDefaultBins;
               c[glassLabel(j)] = 0;
               c[glassLabel(k)] = 1500;
             }
           } else {  // empty; salt: some glass label looks best
-            std::fill(c, c + kNumLabels, 4000);
+            std::fill(c, c + numLabels(), 4000);
             c[kEmpty] = 0;
             if (salted) {
               c[glassLabel(angle(rng))] = 0;
@@ -379,7 +383,7 @@ TEST(MrfSolver, NoisyStraightPaneIsCleanedToOnePane) {
           }
         }
       const std::vector<uint16_t> start = argminLabels(e);
-      for (const std::string name : {"swap", "expansion"}) {
+      for (const SolverKind name : {SolverKind::Swap, SolverKind::Expansion}) {
         std::vector<uint16_t> lab = start;
         makeSolver(name, untilNoGain())->solve(e, lab);
         int wrong = 0, off_row = 0, buffered = 0;
@@ -390,12 +394,12 @@ TEST(MrfSolver, NoisyStraightPaneIsCleanedToOnePane) {
               off_row += y != row;
               buffered += y == row && lab[y * w + x] == kOccupied;
             }
-        if (psi == "closed") {
-          EXPECT_EQ(wrong, 0) << name << " seed " << seed;
+        if (psi == PsiKind::Closed) {
+          EXPECT_EQ(wrong, 0) << toString(name) << " seed " << seed;
         } else {  // the paper's Psi may leave OCC as a free buffer between clashing angles,
                   // which also shields a wrong-angle cell between two buffers
-          EXPECT_EQ(off_row, 0) << name << " seed " << seed;
-          EXPECT_LE(wrong, 2 * buffered) << name << " seed " << seed;
+          EXPECT_EQ(off_row, 0) << toString(name) << " seed " << seed;
+          EXPECT_LE(wrong, 2 * buffered) << toString(name) << " seed " << seed;
           paper_buffered += buffered;
         }
       }
@@ -411,8 +415,8 @@ TEST(MrfSynthetic, SeededInstanceIsReproducibleAndScored) {
   SyntheticOptions o;
   o.width = 200;
   o.height = 150;
-  const SyntheticInstance a = makeSyntheticInstance(o, paperPsi(kGlassBins));
-  const SyntheticInstance b = makeSyntheticInstance(o, paperPsi(kGlassBins));
+  const SyntheticInstance a = makeSyntheticInstance(o, paperPsi(kDefaultBins));
+  const SyntheticInstance b = makeSyntheticInstance(o, paperPsi(kDefaultBins));
   EXPECT_EQ(a.energy.unary, b.energy.unary);
   EXPECT_EQ(a.truth, b.truth);
   const GlassScore s = scoreGlass(a.truth, a.truth);
@@ -423,6 +427,6 @@ TEST(MrfSynthetic, SeededInstanceIsReproducibleAndScored) {
   restrictCandidates(e, 3000);
   std::vector<uint16_t> lab = argminLabels(e);
   const double f1_start = scoreGlass(a.truth, lab).f1();
-  makeSolver("swap")->solve(e, lab);
+  makeSolver(SolverKind::Swap)->solve(e, lab);
   EXPECT_GT(scoreGlass(a.truth, lab).f1(), f1_start);
 }

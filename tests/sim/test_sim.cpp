@@ -128,8 +128,8 @@ TEST(Simulator, PaperCorridorOutcomeCountsMatchThePhysics) {
       if (!hit.hit() || hit.material != Material::Glass) continue;
       ++first_glass;
       const double th = hit.incidence;
-      const double pd = scene.glass.direct_peak *
-                        std::exp(-th * th / (2 * scene.glass.direct_sigma * scene.glass.direct_sigma));
+      const double sigma = deg2rad(scene.glass.direct_sigma_deg);
+      const double pd = scene.glass.direct_peak * std::exp(-th * th / (2 * sigma * sigma));
       const double pr = (1 - pd) * std::min(1.0, scene.glass.reflection_gain * reflectance(th));
       e_direct += pd;
       v_direct += pd * (1 - pd);

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "glassmap/glass/labels.hpp"
+#include "glassmap/core/labels.hpp"
 #include "glassmap/vector/from_evidence.hpp"
 #include "glassmap/vector/vectorize.hpp"
 
@@ -17,7 +17,7 @@ glass::CellEvidence blankEvidence(int w, int h) {
   e.geometry.origin = Vec2::Zero();
   e.geometry.width = w;
   e.geometry.height = h;
-  e.label.assign(static_cast<std::size_t>(w) * h, static_cast<std::uint8_t>(glass::kEmpty));
+  e.label.assign(static_cast<std::size_t>(w) * h, static_cast<std::uint8_t>(kEmpty));
   return e;
 }
 
@@ -25,24 +25,24 @@ TEST(PruneUnfittedGlass, CellsOffEveryPaneTakeTheirBestOtherLabel) {
   glass::CellEvidence e = blankEvidence(100, 100);
   const auto& g = e.geometry;
   // A pane along y = 2.525 (row 50), x 1..4 m, normal along y (bin 18 of 36).
-  for (int x = 20; x < 80; ++x) e.label[g.index(x, 50)] = static_cast<std::uint8_t>(glass::glassLabel(18));
+  for (int x = 20; x < 80; ++x) e.label[g.index(x, 50)] = static_cast<std::uint8_t>(glassLabel(18));
   // An arc of "glass" cells where a person walked by, far from the pane.
-  for (int x = 30; x < 36; ++x) e.label[g.index(x, 20)] = static_cast<std::uint8_t>(glass::glassLabel(18));
+  for (int x = 30; x < 36; ++x) e.label[g.index(x, 20)] = static_cast<std::uint8_t>(glassLabel(18));
   // One arc cell has costs that prefer OCC to EMP; it must become OCC.
   e.cells = {static_cast<std::uint32_t>(g.index(31, 20))};
   e.cost.assign(static_cast<std::size_t>(e.num_labels), glass::CellEvidence::kMaxCost);
-  e.cost[glass::kOccupied] = 2.0f;
-  e.cost[glass::kEmpty] = 3.0f;
-  e.cost[glass::glassLabel(18)] = 0.5f;
+  e.cost[kOccupied] = 2.0f;
+  e.cost[kEmpty] = 3.0f;
+  e.cost[glassLabel(18)] = 0.5f;
 
   VectorMap plan;
   plan.add({1.0, 2.525}, {4.0, 2.525}, Material::Glass);
   plan.add({1.0, 1.025}, {4.0, 1.025}, Material::Wall);  // a wall segment explains no glass
 
   EXPECT_EQ(pruneUnfittedGlass(e, plan), 6u);
-  for (int x = 20; x < 80; ++x) EXPECT_TRUE(glass::isGlass(e.label[g.index(x, 50)])) << x;
-  EXPECT_EQ(e.label[g.index(31, 20)], glass::kOccupied);
-  for (int x : {30, 32, 33, 34, 35}) EXPECT_EQ(e.label[g.index(x, 20)], glass::kEmpty) << x;
+  for (int x = 20; x < 80; ++x) EXPECT_TRUE(isGlass(e.label[g.index(x, 50)])) << x;
+  EXPECT_EQ(e.label[g.index(31, 20)], kOccupied);
+  for (int x : {30, 32, 33, 34, 35}) EXPECT_EQ(e.label[g.index(x, 20)], kEmpty) << x;
   EXPECT_EQ(pruneUnfittedGlass(e, plan), 0u);  // idempotent
   EXPECT_EQ(pruneUnfittedGlass(e, VectorMap{}), 60u);
 }

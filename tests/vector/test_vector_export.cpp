@@ -161,11 +161,11 @@ class RasterisedScene : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(RasterisedScene, VectorisesBackToTheFloorplan) {
   const VectorMap truth = readFloorplan(fs::path(GLASSMAP_SOURCE_DIR) / "maps" / GetParam() / "floorplan.geojson");
-  const Box2 box = truth.bounds();
+  const Eigen::AlignedBox2d box = truth.bounds();
   const double res = 0.05;
-  const Vec2 origin = box.min - Vec2::Constant(1.0);
-  LabelGrid g = makeLabelGrid(static_cast<int>((box.max.x() - origin.x() + 1.0) / res),
-                              static_cast<int>((box.max.y() - origin.y() + 1.0) / res), res, origin);
+  const Vec2 origin = box.min() - Vec2::Constant(1.0);
+  LabelGrid g = makeLabelGrid(static_cast<int>((box.max().x() - origin.x() + 1.0) / res),
+                              static_cast<int>((box.max().y() - origin.y() + 1.0) / res), res, origin);
   std::fill(g.codes.begin(), g.codes.end(), kCodeEmpty);
   rasterize(g, truth);
   const VectorizeResult r = vectorize(g);

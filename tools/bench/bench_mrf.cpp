@@ -14,14 +14,14 @@ const LabelEnergy& instance(int side) {
   if (cached_side != side) {
     SyntheticOptions o;
     o.width = o.height = side;
-    e = makeSyntheticInstance(o, psiByName("closed", kGlassBins)).energy;
+    e = makeSyntheticInstance(o, psiTable(PsiKind::Closed, glassmap::kDefaultBins)).energy;
     restrictCandidates(e);
     cached_side = side;
   }
   return e;
 }
 
-void run(benchmark::State& state, const char* solver) {
+void run(benchmark::State& state, SolverKind solver) {
   const LabelEnergy& e = instance(static_cast<int>(state.range(0)));
   const std::vector<uint16_t> start = argminLabels(e);
   MrfResult r;
@@ -35,9 +35,9 @@ void run(benchmark::State& state, const char* solver) {
   state.counters["cells"] = static_cast<double>(e.cells());
 }
 
-void BM_MrfIcm(benchmark::State& s) { run(s, "icm"); }
-void BM_MrfSwap(benchmark::State& s) { run(s, "swap"); }
-void BM_MrfExpansion(benchmark::State& s) { run(s, "expansion"); }
+void BM_MrfIcm(benchmark::State& s) { run(s, SolverKind::Icm); }
+void BM_MrfSwap(benchmark::State& s) { run(s, SolverKind::Swap); }
+void BM_MrfExpansion(benchmark::State& s) { run(s, SolverKind::Expansion); }
 
 BENCHMARK(BM_MrfIcm)->Arg(250)->Arg(500)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MrfSwap)->Arg(250)->Arg(500)->Unit(benchmark::kMillisecond);

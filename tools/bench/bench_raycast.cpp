@@ -65,9 +65,9 @@ Query& query() {
   static Query q = [] {
     VectorMap map = loadMap();
     RayCaster caster(map);
-    const Box2 box = map.bounds();
+    const Eigen::AlignedBox2d box = map.bounds();
     std::mt19937 rng(42);
-    std::uniform_real_distribution<double> ux(box.min.x(), box.max.x()), uy(box.min.y(), box.max.y());
+    std::uniform_real_distribution<double> ux(box.min().x(), box.max().x()), uy(box.min().y(), box.max().y());
     std::uniform_real_distribution<double> heading(-kPi, kPi);
     std::vector<Pose2> poses;
     while (static_cast<int>(poses.size()) < kPoses) {

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "glassmap/io/laser_scan.hpp"
+#include "glassmap/core/laser_scan.hpp"
 
 namespace glassmap::eval {
 

@@ -7,7 +7,7 @@
 
 #include "glassmap/core/pose2.hpp"
 #include "glassmap/geometry/vector_map.hpp"
-#include "glassmap/io/laser_scan.hpp"
+#include "glassmap/core/laser_scan.hpp"
 
 namespace glassmap::eval {
 

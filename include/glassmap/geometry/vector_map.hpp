@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "glassmap/core/pose2.hpp"
 
 namespace glassmap {
@@ -46,20 +48,12 @@ struct MapSegment {
   double distanceTo(const Vec2& p) const { return (p - closestPoint(p)).norm(); }
 };
 
-/// Axis-aligned box [m].
-struct Box2 {
-  Vec2 min = Vec2::Constant(1e300);
-  Vec2 max = Vec2::Constant(-1e300);
-  bool empty() const { return min.x() > max.x(); }
-  void extend(const Vec2& p) { min = min.cwiseMin(p); max = max.cwiseMax(p); }
-};
-
 /// A floorplan: segments in a local metric frame (metres), one floor.
 struct VectorMap {
   std::vector<MapSegment> segments;
   std::string name;  ///< optional label (file stem, scene name)
 
-  Box2 bounds() const;
+  Eigen::AlignedBox2d bounds() const;  ///< box of the segment ends [m]; empty without segments
   std::size_t count(Material m) const;
   /// Appends a segment a -> b of material m (other attributes at their defaults); returns it.
   MapSegment& add(const Vec2& a, const Vec2& b, Material m) {

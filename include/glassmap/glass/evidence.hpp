@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "glassmap/glass/labels.hpp"
+#include "glassmap/core/labels.hpp"
 #include "glassmap/grid/grid_geometry.hpp"
 
 namespace glassmap::glass {

@@ -7,7 +7,7 @@
 
 #include "glassmap/grid/angle_histograms.hpp"
 #include "glassmap/grid/hit_miss_grid.hpp"
-#include "glassmap/io/laser_scan.hpp"
+#include "glassmap/core/laser_scan.hpp"
 
 namespace glassmap::grid {
 

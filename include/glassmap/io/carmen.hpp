@@ -10,7 +10,7 @@
 #include <functional>
 #include <string>
 
-#include "glassmap/io/laser_scan.hpp"
+#include "glassmap/core/laser_scan.hpp"
 
 namespace glassmap {
 

@@ -23,7 +23,7 @@ struct LogSummary {
   std::size_t time_reversals = 0;               ///< scans stamped earlier than the scan before
   double distance = 0.0;                        ///< path length of the laser poses [m] (first laser)
   double odometry_distance = 0.0;               ///< path length of the ODOM poses [m]
-  Box2 pose_bounds;                             ///< bounding box of the laser poses [m]
+  Eigen::AlignedBox2d pose_bounds;                             ///< bounding box of the laser poses [m]
   std::map<int, std::size_t> scans_per_laser;   ///< laser id -> scans
   LogReadStats stats;                           ///< what the reader met (skipped types, no returns)
 

@@ -7,7 +7,7 @@
 #include <optional>
 #include <vector>
 
-#include "glassmap/io/laser_scan.hpp"
+#include "glassmap/core/laser_scan.hpp"
 #include "glassmap/localize/particle_filter.hpp"
 
 namespace glassmap::localize {

@@ -11,19 +11,14 @@
 #include <string>
 #include <vector>
 
+#include "glassmap/core/labels.hpp"
+
 namespace glassmap::mrf {
 
 /// Integer cost units per unit of real cost (nats for unaries, Psi units for pairwise).
 inline constexpr double kCostScale = 1000.0;
 
-/// Label convention shared with grid/glass: 0 EMP, 1 OCC, 2+k GLS with pane normal at k*5 deg.
-inline constexpr int kEmpty = 0;                                 ///< free cell
-inline constexpr int kOccupied = 1;                              ///< wall / obstacle
-inline constexpr int kFirstGlass = 2;                            ///< GLS_0
-inline constexpr int kGlassBins = 36;                            ///< 5 deg bins over [0, 180)
-inline constexpr int kNumLabels = kFirstGlass + kGlassBins;      ///< 38
-inline constexpr int glassLabel(int k) { return kFirstGlass + k; }  ///< label of GLS at k*5 deg
-inline constexpr bool isGlass(int label) { return label >= kFirstGlass; }
+// Labels: glassmap/core/labels.hpp (0 EMP, 1 OCC, 2 + k GLS_k).
 
 /// The energy of one labelling problem.
 struct LabelEnergy {
@@ -62,11 +57,19 @@ std::vector<int32_t> makePsi(int num_glass_bins, const PsiWeights& w);
 /// between glass and empty, 0 otherwise (OCC is free next to anything).
 std::vector<int32_t> paperPsi(int num_glass_bins, double w_diff = 3.0, double w_glass_empty = 0.6);
 
-/// Psi variants by name: "paper" (as above); "closed" (glass next to OCC costs as much as glass
-/// next to EMP, 0.6, so OCC is no longer a free buffer for doubtful glass; best glass F1 on the
-/// synthetic floor, see `glassmap bench mrf`); "neutral" (EMP next to OCC also costs 0.6, so
-/// walls and glass pay the same boundary cost). Throws glassmap::Error for other names.
-std::vector<int32_t> psiByName(const std::string& name, int num_glass_bins);
+/// Psi variants: Paper (as above); Closed (glass next to OCC costs as much as glass next to EMP,
+/// 0.6, so OCC is no longer a free buffer for doubtful glass; best glass F1 on the synthetic
+/// floor, see `glassmap bench mrf`); Neutral (EMP next to OCC also costs 0.6, so walls and glass
+/// pay the same boundary cost).
+enum class PsiKind { Paper, Closed, Neutral };
+
+/// "paper" / "closed" / "neutral".
+const char* toString(PsiKind kind);
+/// Parses "paper" / "closed" / "neutral"; throws glassmap::Error naming the field "psi" otherwise.
+PsiKind parsePsi(const std::string& name);
+
+/// The Psi table of a variant over {EMP, OCC, GLS_0..GLS_{bins-1}}.
+std::vector<int32_t> psiTable(PsiKind kind, int num_glass_bins);
 
 /// Checks sizes and symmetry; throws glassmap::Error naming the field otherwise.
 void validate(const LabelEnergy& e);

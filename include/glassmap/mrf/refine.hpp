@@ -11,8 +11,8 @@ namespace glassmap::mrf {
 
 /// Settings of the refinement.
 struct RefineOptions {
-  std::string solver = "expansion";  ///< "swap", "expansion" or "icm"
-  std::string psi = "closed";        ///< "paper", "closed" or "neutral" (see psiByName)
+  SolverKind solver = SolverKind::Expansion;  ///< graph-cut moves or ICM
+  PsiKind psi = PsiKind::Closed;               ///< pairwise table (see PsiKind)
   double unary_weight = 1.0;         ///< scale of the -log posteriors against Psi [-]
   int tile = 256;                    ///< tile side [cells]; each tile is solved with its border fixed
   int sweeps = 2;                    ///< passes over all tiles (later passes see updated borders)

@@ -38,11 +38,18 @@ class MrfSolver {
   virtual std::string name() const = 0;
 };
 
-/// "swap" (alpha-beta swap), "expansion" (alpha-expansion, non-submodular terms truncated so the
-/// current labelling keeps its exact energy) or "icm". Throws glassmap::Error for other names.
-std::unique_ptr<MrfSolver> makeSolver(const std::string& name, const MrfOptions& options = {});
+/// The solvers: ICM (the baseline), alpha-beta swap, alpha-expansion (non-submodular terms
+/// truncated so the current labelling keeps its exact energy).
+enum class SolverKind { Icm, Swap, Expansion };
 
-/// Names accepted by makeSolver.
-std::vector<std::string> solverNames();
+/// "icm" / "swap" / "expansion".
+const char* toString(SolverKind kind);
+/// Parses "icm" / "swap" / "expansion"; throws glassmap::Error naming the field "solver" otherwise.
+SolverKind parseSolver(const std::string& name);
+/// Every solver, in the order icm, swap, expansion.
+std::vector<SolverKind> allSolvers();
+
+/// A solver of the given kind.
+std::unique_ptr<MrfSolver> makeSolver(SolverKind kind, const MrfOptions& options = {});
 
 }  // namespace glassmap::mrf

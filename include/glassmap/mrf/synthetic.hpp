@@ -31,7 +31,7 @@ struct SyntheticInstance {
   std::vector<uint16_t> truth;   ///< ground-truth label per cell
 };
 
-/// Builds the instance with pairwise table `psi` (kNumLabels x kNumLabels).
+/// Builds the instance with pairwise table `psi` (numLabels() x numLabels()).
 SyntheticInstance makeSyntheticInstance(const SyntheticOptions& o, const std::vector<int32_t>& psi);
 
 /// Glass scores of a labelling against the truth: a cell counts as found when both are glass;

@@ -19,7 +19,7 @@ class DistanceGrid {
   double exactDistance(const Vec2& p) const;
   double resolution() const { return res_; }
   double maxDistance() const { return max_dist_; }
-  Box2 bounds() const;  ///< area covered [m]
+  Eigen::AlignedBox2d bounds() const;  ///< area covered [m]
   std::size_t cells() const { return d_.size(); }
 
  private:

@@ -10,7 +10,7 @@
 
 #include "glassmap/core/pose2.hpp"
 #include "glassmap/geometry/vector_map.hpp"
-#include "glassmap/io/laser_scan.hpp"
+#include "glassmap/core/laser_scan.hpp"
 
 namespace glassmap::sensor {
 
@@ -32,7 +32,7 @@ struct SensorParams {
   double lambda_short = 0.2;    ///< rate of the short-reading exponential [1/m]
   GlassAs glass_as = GlassAs::Opaque;  ///< beam/field: what glass is to them
   // Glass model (paper 2.1-2.3).
-  double sigma_direct_deg2 = 3.0;  ///< variance of the direct-reflection lobe, sigma_dr^2 [deg^2]
+  double direct_sigma_deg = 1.7320508075688772;  ///< direct-reflection lobe sigma_dr [deg] (paper: sigma_dr^2 = 3 deg^2)
   double lambda_normal = 0.09;      ///< rate of the normal-reflection weight [1/deg]
   double glass_index = 1.5;        ///< refractive index used for the refraction offset [-]
   double offset = -1.0;            ///< refraction offset per pane [m]; < 0: the physical elongation

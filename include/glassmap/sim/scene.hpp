@@ -28,7 +28,7 @@ LaserSpec laserPreset(const std::string& name);
 /// How glass acts on the beam (physics, not the sensor model we fit later).
 struct GlassPhysics {
   double n_glass = 1.5;            ///< refractive index of the panes
-  double direct_sigma = deg2rad(2.0);  ///< angular width of the direct return lobe [rad]
+  double direct_sigma_deg = 2.0;   ///< sigma of the direct-return lobe over incidence angle [deg]
   double direct_peak = 0.9;        ///< probability of a direct return at normal incidence
   double reflection_gain = 1.0;    ///< P(specular) = min(1, gain * unpolarised Fresnel reflectance)
   int max_bounces = 4;             ///< reflections/transmissions followed per beam

@@ -6,7 +6,7 @@
 #include <optional>
 #include <vector>
 
-#include "glassmap/io/laser_scan.hpp"
+#include "glassmap/core/laser_scan.hpp"
 #include "glassmap/sim/scene.hpp"
 
 namespace glassmap::sim {

@@ -6,20 +6,13 @@
 #include <cstdint>
 #include <vector>
 
+#include "glassmap/core/labels.hpp"
 #include "glassmap/core/pose2.hpp"
 #include "glassmap/geometry/vector_map.hpp"
 
 namespace glassmap::vector {
 
-inline constexpr std::uint8_t kCodeUnknown = 0;    ///< no beam touched the cell
-inline constexpr std::uint8_t kCodeEmpty = 1;      ///< free space
-inline constexpr std::uint8_t kCodeOccupied = 2;   ///< wall (anything opaque)
-inline constexpr std::uint8_t kCodeFirstGlass = 10;  ///< glass with pane normal in bin 0
-
-/// True for glass codes (10 + k).
-constexpr bool isGlassCode(std::uint8_t code) { return code >= kCodeFirstGlass; }
-/// True for wall codes (2..9: the ROS reading of "not free").
-constexpr bool isWallCode(std::uint8_t code) { return code >= kCodeOccupied && code < kCodeFirstGlass; }
+// Codes: glassmap/core/labels.hpp (0 unknown, 1 empty, 2..9 occupied, 10 + k glass).
 
 /// A label raster. Row 0 is the bottom row; cell (x, y) has linear index y * width + x.
 struct LabelGrid {

@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <vector>
 
-namespace glassmap::glass {
+namespace glassmap {
 
 /// How to draw.
-struct RenderOptions {
+struct LabelRenderOptions {
   int scale = 0;   ///< pixels per cell; 0 picks 1..4 so the picture is about 1000+ px wide
 };
 
@@ -19,6 +19,6 @@ Rgb labelColour(int label, int bins);
 
 /// Writes a PNG of labels (row 0 = bottom, drawn at the bottom), atomically.
 void writeLabelsPng(const std::filesystem::path& png, int width, int height,
-                    const std::vector<std::uint8_t>& labels, int bins, const RenderOptions& options = {});
+                    const std::vector<std::uint8_t>& labels, int bins, const LabelRenderOptions& options = {});
 
-}  // namespace glassmap::glass
+}  // namespace glassmap

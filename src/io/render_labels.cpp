@@ -1,4 +1,4 @@
-#include "glassmap/glass/render.hpp"
+#include "glassmap/io/render_labels.hpp"
 
 #include <cairo.h>
 
@@ -7,9 +7,9 @@
 
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
-#include "glassmap/glass/labels.hpp"
+#include "glassmap/core/labels.hpp"
 
-namespace glassmap::glass {
+namespace glassmap {
 
 Rgb labelColour(int label, int bins) {
   if (label == kUnknown) return {205, 205, 205};
@@ -35,7 +35,7 @@ Rgb labelColour(int label, int bins) {
 }
 
 void writeLabelsPng(const std::filesystem::path& png, int width, int height,
-                    const std::vector<std::uint8_t>& labels, int bins, const RenderOptions& options) {
+                    const std::vector<std::uint8_t>& labels, int bins, const LabelRenderOptions& options) {
   if (width <= 0 || height <= 0 || labels.size() != static_cast<std::size_t>(width) * height) {
     throw Error("label grid size does not match its width and height", png.string());
   }
@@ -72,4 +72,4 @@ void writeLabelsPng(const std::filesystem::path& png, int width, int height,
   cairo_surface_destroy(surface);
 }
 
-}  // namespace glassmap::glass
+}  // namespace glassmap

@@ -1,5 +1,5 @@
 #pragma once
-/// A laser scan and a whole laser log as read from (or written to) a CARMEN log.
+/// A laser scan and a whole laser log: plain data, read and written by io/ (CARMEN logs).
 
 #include <cmath>
 #include <cstdint>
