@@ -1,18 +1,16 @@
-// glassmap localize --map FLOORPLAN LOG -o EST.tum: Monte Carlo localization against a segment map.
+// glassmap localize --map FLOORPLAN LOG -o EST.tum: options, one pipeline::localizeLog call, the files.
 #include <filesystem>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cli_common.hpp"
-#include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/io/carmen.hpp"
 #include "glassmap/io/floorplan.hpp"
 #include "glassmap/io/tum.hpp"
-#include "glassmap/localize/localizer.hpp"
+#include "glassmap/pipeline/localize_log.hpp"
 
 namespace glassmap {
 namespace {
@@ -38,14 +36,13 @@ void run(const LocalizeArgs& a) {
   const VectorMap map = readFloorplan(a.map);
   if (map.segments.empty()) throw Error("the map has no segments", a.map);
   const LaserLog log = readCarmenLog(a.log);
+  if (log.scans.empty()) throw Error("the log holds no scan", a.log);
 
-  sensor::SensorParams sp;
-  sp.glass_as = sensor::parseGlassAs(a.glass_as);
-  sp.sigma_hit = a.sigma_hit;
-  sp.max_range = log.scans.front().max_range;
-  const auto model = sensor::makeSensorModel(a.model, map, sp);
-
-  localize::LocalizeOptions opt;
+  pipeline::LocalizeOptions options;
+  options.model = a.model;
+  options.sensor.glass_as = sensor::parseGlassAs(a.glass_as);
+  options.sensor.sigma_hit = a.sigma_hit;
+  localize::LocalizeOptions& opt = options.filter;
   opt.beams = a.beams;
   opt.filter.max_particles = a.particles;
   opt.filter.min_particles = a.min_particles;
@@ -56,8 +53,9 @@ void run(const LocalizeArgs& a) {
   if (!a.init.empty()) opt.init = cli::parsePose(a.init, "init");
   if (!a.laser_offset.empty()) opt.T_base_laser = cli::parsePose(a.laser_offset, "laser-offset");
   if (!a.quiet && cli::stderrIsTerminal())
-    std::cerr << "localizing " << log.scans.size() << " scans with the " << model->name() << " model...\n";
-  const localize::LocalizeResult r = localize::localizeLog(log, *model, opt);
+    std::cerr << "localizing " << log.scans.size() << " scans with the " << a.model << " model...\n";
+  const pipeline::LocalizeResult result = pipeline::localizeLog(log, map, options);
+  const localize::LocalizeResult& r = result.run;
   const std::filesystem::path out_path(a.out);
   if (out_path.has_parent_path()) std::filesystem::create_directories(out_path.parent_path());
   writeTum(out_path, r.trajectory);
@@ -67,7 +65,7 @@ void run(const LocalizeArgs& a) {
     localize::writeSpreadCsv(spread_path, r);
   }
 
-  const nlohmann::json summary = {{"model", model->name()},
+  const nlohmann::json summary = {{"model", result.model},
                                   {"glass_as", a.glass_as},
                                   {"scans", r.scans},
                                   {"updates", r.updates},
@@ -82,9 +80,9 @@ void run(const LocalizeArgs& a) {
                                   {"real_time_factor", r.realTimeFactor()},
                                   {"seed", a.seed}};
   if (!a.json.empty())
-    writeAtomically(a.json, [&](const std::filesystem::path& tmp) { std::ofstream(tmp) << summary.dump(2) << "\n"; });
+    cli::writeJsonFile(a.json, summary);
   if (!a.quiet) {
-    std::printf("%-18s %12s\n", "model", model->name().c_str());
+    std::printf("%-18s %12s\n", "model", result.model.c_str());
     std::printf("%-18s %12zu\n", "scans", r.scans);
     std::printf("%-18s %12zu\n", "updates", r.updates);
     std::printf("%-18s %12.1f\n", "mean particles", r.mean_particles);

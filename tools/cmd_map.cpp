@@ -1,24 +1,15 @@
-// glassmap map LOG -o DIR: grid glass mapping (paper 2.5.3 / 2.5.4) of a laser log.
+// glassmap map LOG -o DIR: options, one pipeline::mapLog call, the files and the summary.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "cli_common.hpp"
-#include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
-#include "glassmap/glass/mapping.hpp"
-#include "glassmap/glass/phantoms.hpp"
-#include "glassmap/io/render_labels.hpp"
 #include "glassmap/io/carmen.hpp"
-#include "glassmap/io/labels_raster.hpp"
-#include "glassmap/io/ros_map.hpp"
-#include "glassmap/mrf/refine.hpp"
-#include "glassmap/vector/export.hpp"
-#include "glassmap/vector/from_evidence.hpp"
-#include "glassmap/vector/vectorize.hpp"
+#include "glassmap/pipeline/map_files.hpp"
+#include "glassmap/pipeline/map_log.hpp"
 
 namespace glassmap {
 namespace {
@@ -29,45 +20,17 @@ struct MapArgs {
   std::string log;
   std::string out;
   std::string method = "mrf";
+  std::string mrf_solver = "expansion";
+  std::string mrf_psi = "closed";
   int laser_id = 0;
   bool quiet = false;
   bool vectorize = true;
-  bool phantoms = true;
-  bool prune_glass = true;
-  glass::PhantomOptions phantom;
   double max_memory_mb = 4096.0;
-  glass::MappingOptions options;
-  mrf::RefineOptions mrf;
+  pipeline::MapOptions options;
 };
 
-/// ROS map: unknown -1, empty 0, occupied and glass 100 (a navigation stack then avoids glass).
-OccupancyGridMap toRosMap(const glass::CellEvidence& e) {
-  OccupancyGridMap m;
-  m.width = e.geometry.width;
-  m.height = e.geometry.height;
-  m.resolution = e.geometry.resolution;
-  m.origin = Pose2(e.geometry.origin, 0.0);
-  m.data.resize(e.label.size());
-  for (std::size_t i = 0; i < e.label.size(); ++i) {
-    const int l = e.label[i];
-    m.data[i] = l == kUnknown ? std::int8_t{-1} : l == kEmpty ? std::int8_t{0} : std::int8_t{100};
-  }
-  return m;
-}
-
-LabelRaster toLabelRaster(const glass::CellEvidence& e) {
-  LabelRaster r;
-  r.width = e.geometry.width;
-  r.height = e.geometry.height;
-  r.resolution = e.geometry.resolution;
-  r.origin = e.geometry.origin;
-  r.codes.resize(e.label.size());
-  for (std::size_t i = 0; i < e.label.size(); ++i) r.codes[i] = labelToCode(e.label[i]);
-  return r;
-}
-
 nlohmann::json optionsJson(const MapArgs& a) {
-  const auto& o = a.options;
+  const auto& o = a.options.mapping;
   const auto& d = o.direct;
   const auto& h = o.heuristic;
   return {{"method", a.method},
@@ -84,13 +47,15 @@ nlohmann::json optionsJson(const MapArgs& a) {
             {"p_hit_emp", d.p_hit_emp}, {"occ_hit_floor", d.occ_hit_floor}, {"prior_glass", d.prior_glass},
             {"prior_occupied", d.prior_occupied}, {"min_glass_hits", d.min_glass_hits},
             {"search_cells", d.search_cells}}},
-          {"prune_unfitted_glass", a.prune_glass},
+          {"prune_unfitted_glass", a.options.prune_unfitted_glass},
           {"phantoms",
-           {{"enabled", a.phantoms}, {"glass_margin", a.phantom.glass_margin},
-            {"block_margin", a.phantom.block_margin}, {"min_folded_fraction", a.phantom.min_folded_fraction}}},
+           {{"enabled", a.options.phantoms}, {"glass_margin", a.options.phantom.glass_margin},
+            {"block_margin", a.options.phantom.block_margin},
+            {"min_folded_fraction", a.options.phantom.min_folded_fraction}}},
           {"mrf",
-           {{"solver", a.mrf.solver}, {"psi", a.mrf.psi}, {"unary_weight", a.mrf.unary_weight},
-            {"tile", a.mrf.tile}, {"sweeps", a.mrf.sweeps}}},
+           {{"solver", mrf::toString(a.options.mrf.solver)}, {"psi", mrf::toString(a.options.mrf.psi)},
+            {"unary_weight", a.options.mrf.unary_weight}, {"tile", a.options.mrf.tile},
+            {"sweeps", a.options.mrf.sweeps}}},
           {"heuristic",
            {{"min_hits", h.min_hits}, {"min_window_hit_ratio", h.min_window_hit_ratio},
             {"min_other_misses", h.min_other_misses}, {"max_other_hit_ratio", h.max_other_hit_ratio},
@@ -106,52 +71,32 @@ void run(MapArgs& args) {
   const LaserLog log = readCarmenLog(args.log, read);
   const double seconds_read = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  // Methods: heuristic and direct are cell classifiers of glass/; mrf runs direct and then
-  // refines its evidence with the MRF (paper 2.5.5).
-  args.options.max_memory_bytes = static_cast<std::size_t>(args.max_memory_mb * 1e6);
-  const bool use_mrf = args.method == "mrf";
-  args.options.method = glass::parseMethod(use_mrf ? "direct" : args.method);
+  // Options given as names are parsed here, at the edge.
+  pipeline::MapOptions& options = args.options;
+  options.method = pipeline::parseMapMethod(args.method);
+  options.mrf.solver = mrf::parseSolver(args.mrf_solver);
+  options.mrf.psi = mrf::parsePsi(args.mrf_psi);
+  options.mapping.max_memory_bytes = static_cast<std::size_t>(args.max_memory_mb * 1e6);
+  options.fit_floorplan = args.vectorize;
+  const bool use_mrf = options.method == pipeline::MapMethod::Mrf;
   auto progress = [&](const char* stage, double f) {
     if (!show_progress) return;
-    std::fprintf(stderr, "\r%-8s %5.1f%%", stage, 100.0 * f);
-    if (f >= 1.0) std::fputc('\n', stderr);
+    const std::string_view s(stage);
+    if (s == "counts" || s == "angles") {
+      std::fprintf(stderr, "\r%-8s %5.1f%%", stage, 100.0 * f);
+      if (f >= 1.0) std::fputc('\n', stderr);
+    } else if (f <= 0.0) {
+      std::fprintf(stderr, "%s...\n", stage);
+    }
   };
-  glass::MappingResult result = glass::mapLog(log, args.options, progress);
-  mrf::RefineResult refined;
-  if (use_mrf) {
-    if (show_progress) std::cerr << "mrf...\n";
-    refined = mrf::refine(result.evidence, args.mrf);
-  }
-  glass::PhantomStats phantom;
-  double seconds_phantoms = 0.0;
-  if (args.phantoms) {
-    if (show_progress) std::cerr << "mirror phantoms...\n";
-    const auto tp = std::chrono::steady_clock::now();
-    phantom = glass::suppressMirrorPhantoms(log, args.options.beams, args.phantom, result.evidence);
-    seconds_phantoms = std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
-  }
+  const pipeline::MapResult result = pipeline::mapLog(log, options, progress);
   const glass::CellEvidence& e = result.evidence;
-  vector::VectorizeResult floorplan;
-  // The pane fit needs the fitted floorplan even when no floorplan file is wanted.
-  if (args.vectorize || args.prune_glass) {
-    if (show_progress) std::cerr << "vectorize...\n";
-    floorplan = vector::vectorize(vector::toLabelGrid(e));
-  }
-  std::size_t pruned = 0;
-  if (args.prune_glass) {
-    pruned = vector::pruneUnfittedGlass(result.evidence, floorplan.map);
-  }
-
-  // The later steps relabel cells: count what is written.
-  result.stats.glass_cells = result.evidence.countGlass();
-  result.stats.occupied_cells = result.evidence.countOccupied();
+  const vector::VectorizeResult& floorplan = result.floorplan;
+  const mrf::RefineResult& refined = result.mrf;
+  const glass::PhantomStats& phantom = result.phantoms;
 
   const fs::path dir(args.out);
-  fs::create_directories(dir);
-  writeRosMap(dir / "map.yaml", toRosMap(e));
-  writeLabelRaster(dir / "labels.tif", toLabelRaster(e));
-  writeLabelsPng(dir / "map.png", e.geometry.width, e.geometry.height, e.label, e.bins);
-  if (args.vectorize) vector::writeFloorplanSet(dir / "floorplan", floorplan.map);
+  pipeline::writeMapFiles(dir, result, args.vectorize);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::size_t peak = cli::peakMemoryBytes();
 
@@ -172,7 +117,7 @@ void run(MapArgs& args) {
                       {"bytes_per_observed_cell", st.bytes_per_observed_cell},
                       {"seconds", {{"read", seconds_read}, {"counts", st.seconds_counts},
                                    {"angles", st.seconds_angles}, {"classify", st.seconds_classify},
-                                   {"mrf", refined.seconds}, {"phantoms", seconds_phantoms},
+                                   {"mrf", refined.seconds}, {"phantoms", result.seconds.phantoms},
                                    {"vectorize", floorplan.stats.seconds},
                                    {"total", seconds}}},
                       {"mrf_changed_cells", refined.changed},
@@ -180,16 +125,12 @@ void run(MapArgs& args) {
                       {"mirror_phantoms", {{"beams_through_glass", phantom.beams_through_glass},
                                            {"folded_beams", phantom.folded_beams},
                                            {"cells_cleared", phantom.cells_cleared}}},
-                      {"glass_cells_off_segments", pruned},
+                      {"glass_cells_off_segments", result.pruned_glass},
                       {"glass_segments", floorplan.map.count(Material::Glass)},
                       {"wall_segments", floorplan.map.count(Material::Wall)},
                       {"peak_memory_bytes", peak},
                       {"options", optionsJson(args)}};
-  writeAtomically(dir / "stats.json", [&](const fs::path& tmp) {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    if (!out) throw Error("cannot write", (dir / "stats.json").string());
-  });
+  cli::writeJsonFile(dir / "stats.json", j);
 
   if (!args.quiet) {
     std::printf("%-22s %s\n", "method", args.method.c_str());
@@ -201,9 +142,9 @@ void run(MapArgs& args) {
     std::printf("%-22s %zu\n", "glass cells", st.glass_cells);
     std::printf("%-22s %.1f\n", "state bytes/cell", st.bytes_per_observed_cell);
     if (use_mrf) std::printf("%-22s %zu cells changed\n", "mrf", refined.changed);
-    if (args.prune_glass)
-      std::printf("%-22s %zu glass cells off every glass segment relabelled\n", "pane fit", pruned);
-    if (args.phantoms)
+    if (options.prune_unfitted_glass)
+      std::printf("%-22s %zu glass cells off every glass segment relabelled\n", "pane fit", result.pruned_glass);
+    if (options.phantoms)
       std::printf("%-22s %zu cells cleared (%zu of %zu beams through glass folded)\n", "mirror phantoms",
                   phantom.cells_cleared, phantom.folded_beams, phantom.beams_through_glass);
     if (args.vectorize)
@@ -212,7 +153,7 @@ void run(MapArgs& args) {
     std::printf(
         "%-22s %.2f (read %.2f, counts %.2f, angles %.2f, classify %.2f, mrf %.2f, phantoms %.2f, vectorize %.2f)\n",
         "seconds", seconds, seconds_read, st.seconds_counts, st.seconds_angles, st.seconds_classify, refined.seconds,
-        seconds_phantoms, floorplan.stats.seconds);
+        result.seconds.phantoms, floorplan.stats.seconds);
     std::printf("%-22s %.1f MB\n", "peak memory", static_cast<double>(peak) / 1e6);
     std::printf("%-22s %s/{map.yaml,map.pgm,labels.tif,map.png,stats.json%s}\n", "wrote", dir.string().c_str(),
                 args.vectorize ? ",floorplan.{gpkg,geojson,dxf,svg,png}" : "");
@@ -221,7 +162,7 @@ void run(MapArgs& args) {
 
 const cli::Registrar reg(40, [](CLI::App& app) {
   auto args = std::make_shared<MapArgs>();
-  auto& o = args->options;
+  auto& o = args->options.mapping;
   CLI::App* cmd = app.add_subcommand(
       "map",
       "Map a laser log into an occupancy grid with glass cells (paper 2.5.3-2.5.5) and a vector floorplan:\n"
@@ -233,27 +174,27 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_option("--method", args->method,
                   "heuristic (paper 2.5.3) | direct (direct-reflection classifier, 2.5.4) | mrf (direct, then the MRF, 2.5.5)")
       ->check(CLI::IsMember({"heuristic", "direct", "mrf"}))->capture_default_str();
-  cmd->add_option("--mrf-solver", args->mrf.solver, "mrf: swap | expansion | icm")
+  cmd->add_option("--mrf-solver", args->mrf_solver, "mrf: swap | expansion | icm")
       ->check(CLI::IsMember({"swap", "expansion", "icm"}))->capture_default_str();
-  cmd->add_option("--mrf-psi", args->mrf.psi,
+  cmd->add_option("--mrf-psi", args->mrf_psi,
                   "mrf: pairwise table: paper (OCC free next to glass) | closed (glass next to OCC costs 0.6 too) | neutral")
       ->check(CLI::IsMember({"paper", "closed", "neutral"}))->capture_default_str();
-  cmd->add_option("--mrf-weight", args->mrf.unary_weight, "mrf: weight of the -log posteriors against Psi")
+  cmd->add_option("--mrf-weight", args->options.mrf.unary_weight, "mrf: weight of the -log posteriors against Psi")
       ->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("!--no-vector", args->vectorize,
                 "write no floorplan files (the floorplan is still fitted in memory for the pane fit,\n"
                 "unless --keep-unfitted-glass)");
-  cmd->add_flag("!--keep-unfitted-glass", args->prune_glass,
+  cmd->add_flag("!--keep-unfitted-glass", args->options.prune_unfitted_glass,
                 "keep glass cells that no fitted glass segment explains: by default they take their best\n"
                 "non-glass label (people walking by leave arcs of cells that each look like glass)");
-  cmd->add_flag("!--keep-phantoms", args->phantoms,
+  cmd->add_flag("!--keep-phantoms", args->options.phantoms,
                 "keep mirror phantoms: by default, wall and glass cells whose returns mostly ran straight\n"
                 "through a pane and then through a wall (impossible unless the pane folded the beam) become unknown");
-  cmd->add_option("--phantom-fraction", args->phantom.min_folded_fraction,
+  cmd->add_option("--phantom-fraction", args->options.phantom.min_folded_fraction,
                   "share of a cell's returns that must be folded for it to count as a mirror phantom")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--phantom-margin", args->phantom.block_margin,
+  cmd->add_option("--phantom-margin", args->options.phantom.block_margin,
                   "the wall behind the pane must lie at least this far before the reading [m]")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

@@ -6,7 +6,7 @@
 #include <functional>
 
 #include "glassmap/eval/trajectory.hpp"
-#include "glassmap/localize/localizer.hpp"
+#include "glassmap/pipeline/localize_log.hpp"
 #include "glassmap/sim/simulator.hpp"
 
 namespace glassmap::localize {
@@ -48,17 +48,16 @@ RunResult runScene(const RunSpec& spec) {
   so.kidnap = spec.kidnap;
   const sim::SimResult sim = sim::simulate(scene, so);
 
-  sensor::SensorParams sp;
-  sp.glass_as = spec.glass_as;
-  sp.max_range = scene.laser.max_range;
-  const auto model = sensor::makeSensorModel(spec.model, scene.map, sp);
-  LocalizeOptions lo;
+  pipeline::LocalizeOptions options;
+  options.model = spec.model;
+  options.sensor.glass_as = spec.glass_as;
+  LocalizeOptions& lo = options.filter;
   lo.beams = spec.beams;
   lo.filter.max_particles = spec.particles;
   lo.filter.seed = spec.seed;
   if (!spec.global) lo.init = sim.ground_truth.front().pose;
   RunResult r;
-  r.run = localizeLog(sim.log, *model, lo);
+  r.run = pipeline::localizeLog(sim.log, scene.map, options).run;
   r.errors = eval::evaluateTrajectory(sim.ground_truth, r.run.trajectory);
   std::printf("  %-15s %-12s %-9s seed %llu: ATE rmse %.4f max %.3f m, %.1f particles, %.3f ms/update\n",
               spec.scene.c_str(), spec.model.c_str(), std::string(toString(spec.glass_as)).c_str(),

@@ -1,5 +1,6 @@
-// End to end on the bundled scenes: simulate (fixed seed) -> map as `glassmap map` does by default
-// (direct classifier, MRF, mirror-phantom test) -> vectorise -> score against the scene's
+// End to end on the bundled scenes: simulate (fixed seed) -> pipeline::mapLog with its defaults,
+// as `glassmap map` runs it (direct classifier, MRF, mirror-phantom test, vectorisation, pane
+// fit) -> score the floorplan against the scene's
 // floorplan; then simulate again on the mapped floorplan (read back from GPKG). Thresholds sit
 // just under the figures reached on 2026-11-22 (glass F1 / wall F1 at 0.10 m): paper-corridor
 // 0.95 / 0.84, glass-corridor 1.00 / 0.90, office-floor 0.93 / 0.92, no-glass - / 0.94. The goals
@@ -14,15 +15,11 @@
 #include "glassmap/eval/cells.hpp"
 #include "glassmap/eval/segments.hpp"
 #include "glassmap/eval/visibility.hpp"
-#include "glassmap/glass/mapping.hpp"
-#include "glassmap/glass/phantoms.hpp"
 #include "glassmap/io/floorplan.hpp"
-#include "glassmap/mrf/refine.hpp"
+#include "glassmap/pipeline/map_log.hpp"
 #include "glassmap/sim/scene.hpp"
 #include "glassmap/sim/simulator.hpp"
 #include "glassmap/vector/export.hpp"
-#include "glassmap/vector/from_evidence.hpp"
-#include "glassmap/vector/vectorize.hpp"
 
 namespace glassmap::vector {
 namespace {
@@ -37,20 +34,19 @@ struct Expectation {
 
 class SceneE2E : public ::testing::TestWithParam<Expectation> {};
 
-// Simulates `scene` (seed 1) and maps it as `glassmap map` does before vectorising: direct
-// classifier, MRF, mirror-phantom test.
+// Simulates `scene` (seed 1) and maps it with the pipeline's defaults (optionally without the
+// pane fit of the cells).
 struct Mapped {
   sim::SimResult run;
-  glass::MappingResult mapped;
+  pipeline::MapResult mapped;
 };
-Mapped simulateAndMap(const sim::Scene& scene) {
+Mapped simulateAndMap(const sim::Scene& scene, bool prune_unfitted_glass = true) {
   sim::SimOptions so;
   so.seed = 1;
   Mapped m{sim::simulate(scene, so), {}};
-  const glass::MappingOptions options;
-  m.mapped = glass::mapLog(m.run.log, options);
-  mrf::refine(m.mapped.evidence, mrf::RefineOptions{});
-  glass::suppressMirrorPhantoms(m.run.log, options.beams, glass::PhantomOptions{}, m.mapped.evidence);
+  pipeline::MapOptions options;
+  options.prune_unfitted_glass = prune_unfitted_glass;
+  m.mapped = pipeline::mapLog(m.run.log, options);
   return m;
 }
 
@@ -63,7 +59,8 @@ TEST_P(SceneE2E, FloorplanMatchesTheScene) {
   const sim::Scene scene = bundledScene(x.scene);
   const Mapped m = simulateAndMap(scene);
   const sim::SimResult& run = m.run;
-  const VectorizeResult v = vectorize(toLabelGrid(m.mapped.evidence));
+  EXPECT_TRUE(m.mapped.has_floorplan);
+  const VectorizeResult& v = m.mapped.floorplan;
   const eval::SegmentEvalResult e = eval::evaluateSegments(scene.map, v.map);
   std::cout << x.scene << ": glass P " << e.glass.precision << " R " << e.glass.recall << " F1 " << e.glass.f1
             << ", " << e.glass.pred_segments << "/" << e.glass.truth_segments << " segments, "
@@ -111,12 +108,13 @@ TEST_P(SceneE2E, FloorplanMatchesTheScene) {
 TEST(PeopleE2E, PassersByDoNotBecomeGlassCells) {
   sim::Scene scene = bundledScene("paper-corridor");
   scene.people.density = 5.0;
-  Mapped m = simulateAndMap(scene);
-  glass::CellEvidence& e = m.mapped.evidence;
-  const eval::CellEvalResult before = eval::evaluateCells(scene.map, e.geometry, e.label, e.bins);
-  const VectorizeResult v = vectorize(toLabelGrid(e));
-  const std::size_t pruned = pruneUnfittedGlass(e, v.map);
+  const glass::CellEvidence raw = simulateAndMap(scene, false).mapped.evidence;
+  const Mapped m = simulateAndMap(scene);
+  const glass::CellEvidence& e = m.mapped.evidence;
+  const std::size_t pruned = m.mapped.pruned_glass;
+  const eval::CellEvalResult before = eval::evaluateCells(scene.map, raw.geometry, raw.label, raw.bins);
   const eval::CellEvalResult after = eval::evaluateCells(scene.map, e.geometry, e.label, e.bins);
+  EXPECT_GT(pruned, 0u);
   std::cout << "people 5: glass cells P@2/R@2/F1@2 " << before.tolerant.precision << "/" << before.tolerant.recall
             << "/" << before.tolerant.f1 << " -> " << after.tolerant.precision << "/" << after.tolerant.recall << "/"
             << after.tolerant.f1 << " (" << pruned << " cells relabelled)\n";

@@ -10,7 +10,7 @@
 
 namespace glassmap::glass {
 
-/// Cell classifier. (The MRF refinement runs on Direct's evidence; see tools/cmd_map.cpp.)
+/// Cell classifier. (The MRF refines Direct's evidence: pipeline/map_log.hpp runs the whole chain.)
 enum class Method { Heuristic, Direct };
 
 /// "heuristic" / "direct".

@@ -25,7 +25,7 @@ bool isExportFormat(const std::filesystem::path& path);
 void exportFloorplan(const std::filesystem::path& path, const VectorMap& map);
 
 /// Writes <stem>.<ext> for every extension, in order; returns the paths written.
-/// `glassmap map` calls writeFloorplanSet(dir / "floorplan", result.map).
+/// pipeline::writeMapFiles calls writeFloorplanSet(dir / "floorplan", result.floorplan.map).
 std::vector<std::filesystem::path> writeFloorplanSet(const std::filesystem::path& stem, const VectorMap& map,
                                                      const std::vector<std::string>& extensions = defaultFloorplanSet());
 

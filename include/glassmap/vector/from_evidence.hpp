@@ -10,7 +10,7 @@
 
 namespace glassmap::vector {
 
-/// Codes from the labels (glass/labels.hpp labelToCode); evidence per cell = posterior of its label,
+/// Codes from the labels (core/labels.hpp labelToCode); evidence per cell = posterior of its label,
 /// exp(-cost), for candidate cells and 1 for the others (no beam ended there: certain).
 LabelGrid toLabelGrid(const glass::CellEvidence& evidence);
 

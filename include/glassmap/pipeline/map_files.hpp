@@ -1,0 +1,28 @@
+#pragma once
+/// What `glassmap map` writes, from a MapResult: the ROS occupancy map, the label GeoTIFF, a
+/// picture of the labels and the floorplan files.
+
+#include <filesystem>
+#include <vector>
+
+#include "glassmap/glass/evidence.hpp"
+#include "glassmap/io/labels_raster.hpp"
+#include "glassmap/io/ros_map.hpp"
+#include "glassmap/pipeline/map_log.hpp"
+
+namespace glassmap::pipeline {
+
+/// ROS map of the labels: unknown -1, empty 0, occupied and glass 100 (a navigation stack then
+/// avoids glass).
+OccupancyGridMap toRosMap(const glass::CellEvidence& evidence);
+
+/// The labels as file codes (core/labels.hpp) on the same grid.
+LabelRaster toLabelRaster(const glass::CellEvidence& evidence);
+
+/// Writes into `dir` (created if missing): map.yaml + map.pgm, labels.tif, map.png and, when
+/// `floorplan_files` and the result has a floorplan, floorplan.{gpkg,geojson,dxf,svg,png}. Each
+/// file is written atomically. Returns the paths written.
+std::vector<std::filesystem::path> writeMapFiles(const std::filesystem::path& dir, const MapResult& result,
+                                                 bool floorplan_files = true);
+
+}  // namespace glassmap::pipeline

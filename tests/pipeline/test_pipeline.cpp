@@ -1,0 +1,160 @@
+// The pipeline module: one call maps a log through every step, one call localizes a log; the
+// steps can be switched off; the files written read back as the result.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "glassmap/core/error.hpp"
+#include "glassmap/core/labels.hpp"
+#include "glassmap/eval/cells.hpp"
+#include "glassmap/eval/trajectory.hpp"
+#include "glassmap/io/labels_raster.hpp"
+#include "glassmap/io/ros_map.hpp"
+#include "glassmap/pipeline/localize_log.hpp"
+#include "glassmap/pipeline/map_files.hpp"
+#include "glassmap/pipeline/map_log.hpp"
+#include "glassmap/sim/simulator.hpp"
+#include "glassmap/vector/from_evidence.hpp"
+
+namespace glassmap::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The first 40 s of paper-corridor (seed 1): several panes seen, a few seconds to map.
+struct Scene {
+  sim::Scene scene;
+  sim::SimResult run;
+};
+const Scene& corridor() {
+  static const Scene s = [] {
+    Scene x;
+    x.scene = sim::loadScene(fs::path(GLASSMAP_SOURCE_DIR) / "maps" / "paper-corridor" / "scene.yaml");
+    sim::SimOptions so;
+    so.seed = 1;
+    so.duration_limit = 40.0;
+    x.run = sim::simulate(x.scene, so);
+    return x;
+  }();
+  return s;
+}
+
+const MapResult& defaultMap() {
+  static const MapResult r = mapLog(corridor().run.log);
+  return r;
+}
+
+TEST(Pipeline, MethodNamesRoundTrip) {
+  for (MapMethod m : {MapMethod::Heuristic, MapMethod::Direct, MapMethod::Mrf})
+    EXPECT_EQ(parseMapMethod(toString(m)), m);
+  EXPECT_THROW(parseMapMethod("graphcut"), Error);
+}
+
+TEST(Pipeline, DefaultsRunEveryStepAndFindTheGlass) {
+  const MapResult& r = defaultMap();
+  EXPECT_GT(r.mrf.active_cells, 0u);
+  EXPECT_GT(r.phantoms.beams_through_glass, 0u);
+  ASSERT_TRUE(r.has_floorplan);
+  EXPECT_GT(r.floorplan.map.count(Material::Glass), 0u);
+  EXPECT_GT(r.floorplan.map.count(Material::Wall), 0u);
+  // Counts are of the final labels.
+  EXPECT_EQ(r.stats.glass_cells, r.evidence.countGlass());
+  EXPECT_EQ(r.stats.occupied_cells, r.evidence.countOccupied());
+  EXPECT_GE(r.seconds.total, r.seconds.mrf + r.seconds.vectorize);
+  // Glass cells found are real glass (the run saw only part of the corridor: recall is partial).
+  const eval::CellEvalResult c =
+      eval::evaluateCells(corridor().scene.map, r.evidence.geometry, r.evidence.label, r.evidence.bins);
+  EXPECT_GE(c.tolerant.precision, 0.95);
+  EXPECT_GT(c.found, 50u);
+  std::printf("40 s of paper-corridor: %zu glass cells found, %zu false, P@2 %.3f R@2 %.3f\n", c.found,
+              c.false_positives, c.tolerant.precision, c.tolerant.recall);
+}
+
+TEST(Pipeline, IsTheChainOfItsStagesInOrder) {
+  // The same steps called one by one give the same labels and the same floorplan.
+  const LaserLog& log = corridor().run.log;
+  const MapOptions defaults;
+  glass::MappingResult m = glass::mapLog(log, defaults.mapping);
+  mrf::refine(m.evidence, defaults.mrf);
+  glass::suppressMirrorPhantoms(log, defaults.mapping.beams, defaults.phantom, m.evidence);
+  const vector::VectorizeResult v = vector::vectorize(vector::toLabelGrid(m.evidence), defaults.vectorize);
+  const std::size_t pruned = vector::pruneUnfittedGlass(m.evidence, v.map, defaults.prune_tolerance);
+  const MapResult& r = defaultMap();
+  EXPECT_EQ(r.evidence.label, m.evidence.label);
+  EXPECT_EQ(r.pruned_glass, pruned);
+  ASSERT_EQ(r.floorplan.map.segments.size(), v.map.segments.size());
+  for (std::size_t i = 0; i < v.map.segments.size(); ++i) {
+    EXPECT_EQ(r.floorplan.map.segments[i].a, v.map.segments[i].a);
+    EXPECT_EQ(r.floorplan.map.segments[i].b, v.map.segments[i].b);
+  }
+}
+
+TEST(Pipeline, StepsCanBeSwitchedOff) {
+  const LaserLog& log = corridor().run.log;
+  MapOptions o;
+  o.method = MapMethod::Direct;
+  o.phantoms = false;
+  o.fit_floorplan = false;
+  o.prune_unfitted_glass = false;
+  const MapResult bare = mapLog(log, o);
+  EXPECT_EQ(bare.mrf.active_cells, 0u);
+  EXPECT_EQ(bare.phantoms.beams_through_glass, 0u);
+  EXPECT_FALSE(bare.has_floorplan);
+  EXPECT_TRUE(bare.floorplan.map.segments.empty());
+  EXPECT_EQ(bare.pruned_glass, 0u);
+  // The pane fit needs the floorplan: it is fitted even when no floorplan is asked for.
+  o.prune_unfitted_glass = true;
+  const MapResult pruned = mapLog(log, o);
+  EXPECT_TRUE(pruned.has_floorplan);
+  EXPECT_LE(pruned.stats.glass_cells, bare.stats.glass_cells);
+  // The heuristic is another classifier: it labels differently.
+  o.method = MapMethod::Heuristic;
+  const MapResult heuristic = mapLog(log, o);
+  EXPECT_NE(heuristic.evidence.label, pruned.evidence.label);
+}
+
+TEST(Pipeline, MapFilesReadBackAsTheResult) {
+  const MapResult& r = defaultMap();
+  const fs::path dir = fs::temp_directory_path() / ("glassmap_pipeline_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const auto written = writeMapFiles(dir, r);
+  for (const char* name : {"map.yaml", "map.pgm", "labels.tif", "map.png", "floorplan.gpkg", "floorplan.dxf"})
+    EXPECT_TRUE(fs::exists(dir / name)) << name;
+  EXPECT_EQ(written.size(), 4u + 5u);
+  const LabelRaster raster = readLabelRaster(dir / "labels.tif");
+  EXPECT_EQ(raster.codes, toLabelRaster(r.evidence).codes);
+  const OccupancyGridMap ros = readRosMap(dir / "map.yaml");
+  ASSERT_EQ(ros.data.size(), r.evidence.label.size());
+  for (std::size_t i = 0; i < ros.data.size(); ++i) {
+    const int l = r.evidence.label[i];
+    const int expected = l == kUnknown ? -1 : l == kEmpty ? 0 : 100;  // glass is an obstacle there
+    ASSERT_EQ(ros.data[i], expected) << "cell " << i;
+  }
+  fs::remove_all(dir);
+  // Without floorplan files only the grid products are written.
+  const auto grid_only = writeMapFiles(dir, r, false);
+  EXPECT_EQ(grid_only.size(), 4u);
+  EXPECT_FALSE(fs::exists(dir / "floorplan.gpkg"));
+  fs::remove_all(dir);
+}
+
+TEST(Pipeline, LocalizesALogAgainstTheFloorplan) {
+  const Scene& s = corridor();
+  LocalizeOptions o;
+  o.filter.filter.max_particles = 300;
+  o.filter.init = s.run.ground_truth.front().pose;
+  const LocalizeResult r = localizeLog(s.run.log, s.scene.map, o);
+  EXPECT_EQ(r.model, "glass");
+  ASSERT_EQ(r.run.trajectory.size(), s.run.log.scans.size());
+  const eval::TrajectoryErrors e = eval::evaluateTrajectory(s.run.ground_truth, r.run.trajectory);
+  EXPECT_LT(e.rmse, 0.05);
+  EXPECT_THROW(localizeLog(s.run.log, VectorMap{}, o), Error);
+  o.model = "telepathy";
+  EXPECT_THROW(localizeLog(s.run.log, s.scene.map, o), Error);
+}
+
+}  // namespace
+}  // namespace glassmap::pipeline
