@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.hpp"
+#include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/io/carmen.hpp"
 #include "glassmap/pipeline/map_files.hpp"
@@ -65,6 +66,8 @@ nlohmann::json optionsJson(const MapArgs& a) {
 void run(MapArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const bool show_progress = !args.quiet && cli::stderrIsTerminal();
+  // Fail now, not after the whole run, when the output cannot be written.
+  checkWritableDirectory(args.out);
   CarmenReadOptions read;
   read.laser_id = args.laser_id;
   if (show_progress) std::cerr << "reading " << args.log << "...\n";
@@ -96,7 +99,7 @@ void run(MapArgs& args) {
   const glass::PhantomStats& phantom = result.phantoms;
 
   const fs::path dir(args.out);
-  pipeline::writeMapFiles(dir, result, args.vectorize);
+  const std::vector<fs::path> files = pipeline::writeMapFiles(dir, result, args.vectorize);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::size_t peak = cli::peakMemoryBytes();
 
@@ -130,7 +133,9 @@ void run(MapArgs& args) {
                       {"wall_segments", floorplan.map.count(Material::Wall)},
                       {"peak_memory_bytes", peak},
                       {"options", optionsJson(args)}};
-  cli::writeJsonFile(dir / "stats.json", j);
+  for (const fs::path& f : files) j["files"].push_back(f.filename().string());
+  // Written last: a folder with a stats.json holds the complete set it lists.
+  cli::writeJsonFile(dir / pipeline::kMapManifest, j);
 
   if (!args.quiet) {
     std::printf("%-22s %s\n", "method", args.method.c_str());

@@ -139,11 +139,52 @@ fs::path temporarySibling(const fs::path& target) {
   return target.parent_path() / name;
 }
 
+void checkWritableDirectory(const fs::path& dir) {
+  // The deepest folder that exists must take a new file; nothing is created for good (a run
+  // refused later leaves no empty folder behind).
+  std::error_code ec;
+  fs::path existing = fs::absolute(dir, ec);
+  if (ec) throw Error("cannot resolve the output folder: " + ec.message(), dir.string());
+  while (!fs::exists(existing, ec) && existing.has_parent_path() && existing != existing.parent_path())
+    existing = existing.parent_path();
+  if (!fs::is_directory(existing, ec))
+    throw Error("cannot create the output folder: " + existing.string() + " is not a folder", dir.string());
+  const fs::path probe = temporarySibling(existing / "write-test");
+  const LiveTemporary live(probe);
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    const int err = errno;
+    throw Error(std::string(existing == fs::absolute(dir) ? "cannot write into the output folder: "
+                                                          : "cannot create the output folder: ") +
+                    std::strerror(err),
+                dir.string());
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
+
+void syncToDisk(const fs::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw Error(std::string("cannot open to flush: ") + std::strerror(errno), path.string());
+  const int rc = ::fsync(fd);
+  const int err = errno;
+  ::close(fd);
+  // EINVAL: the file system (a pipe, some special files) cannot sync; nothing to flush there.
+  if (rc != 0 && err != EINVAL) throw Error(std::string("cannot flush to disk: ") + std::strerror(err), path.string());
+}
+
 void writeAtomically(const fs::path& target, const std::function<void(const fs::path&)>& write) {
   const fs::path tmp = temporarySibling(target);
   const LiveTemporary live(tmp);
   try {
-    write(tmp);
+    try {
+      write(tmp);
+      if (fs::is_regular_file(tmp)) syncToDisk(tmp);  // the write errors a full disk delays surface here
+    } catch (const Error& e) {
+      // Name the user's file, not our hidden temporary.
+      if (e.file() == tmp.string()) throw Error(e.message(), target.string(), e.line(), e.field());
+      throw;
+    }
     std::error_code ec;
     fs::rename(tmp, target, ec);
     if (ec) throw Error("cannot rename temporary output into place: " + ec.message(), target.string());

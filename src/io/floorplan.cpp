@@ -259,6 +259,29 @@ void checkSegments(const VectorMap& map) {
   }
 }
 
+/// Reads `path` back with the one driver that wrote it and checks that every segment reached the
+/// disk. Some GDAL drivers (GeoJSON, FlatGeobuf) do not check their writes: on a full disk or
+/// past a file-size limit they leave a truncated file and report success.
+void verifyWritten(const fs::path& path, FloorplanFormat format, std::size_t expected) {
+  syncToDisk(path);
+  GdalErrorCollector errors;
+  const std::string driver_name(gdalDriverName(format));
+  const char* drivers[] = {driver_name.c_str(), nullptr};
+  GDALDatasetUniquePtr ds(GDALDataset::Open(path.string().c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, drivers));
+  const std::string why = " (disk full, or a file-size limit?)";
+  if (!ds) throw Error("the file written does not read back" + why + errors.suffix(), path.string());
+  // Counted one by one: a truncated file's header may still promise every feature.
+  std::size_t count = 0;
+  for (OGRLayer* layer : ds->GetLayers()) {
+    layer->ResetReading();
+    while (OGRFeatureUniquePtr f{layer->GetNextFeature()}) ++count;
+  }
+  if (count != expected)
+    throw Error("only " + std::to_string(count) + " of " + std::to_string(expected) +
+                    " segments reached the file" + why + errors.suffix(),
+                path.string());
+}
+
 /// Writes the features of `map` into a new dataset at `target` with GDAL.
 void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat format,
                    const fs::path& dxf_header) {
@@ -297,6 +320,8 @@ void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat
     field("evidence", OFTReal);
   }
   OGRFeatureDefn* defn = layer->GetLayerDefn();
+  // One transaction where the driver has them (GeoPackage): one commit instead of one per feature.
+  const bool in_transaction = ds->StartTransaction(FALSE) == OGRERR_NONE;
   for (const MapSegment& s : map.segments) {
     OGRFeatureUniquePtr f(OGRFeature::CreateFeature(defn));
     if (format == FloorplanFormat::Dxf) {
@@ -313,12 +338,15 @@ void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat
     line.addPoint(s.b.x(), s.b.y());
     f->SetGeometry(&line);
     if (layer->CreateFeature(f.get()) != OGRERR_NONE)
-      throw Error("cannot write feature" + errors.suffix(), target.string());
+      throw Error("cannot write feature (disk full, or a file-size limit?)" + errors.suffix(), target.string());
   }
+  if (in_transaction && ds->CommitTransaction() != OGRERR_NONE)
+    throw Error("cannot commit the features" + errors.suffix(), target.string());
   const std::size_t failures_before_close = errors.failures();
   ds.reset();  // closes the file: GDAL writes indexes and trailers here
   if (errors.failures() > failures_before_close)
     throw Error("cannot finish writing" + errors.suffix(), target.string());
+  if (format != FloorplanFormat::Dxf) verifyWritten(target, format, map.segments.size());
 }
 
 void writeShapefile(const fs::path& target, const VectorMap& map) {
@@ -331,7 +359,11 @@ void writeShapefile(const fs::path& target, const VectorMap& map) {
   fs::create_directory(dir, ec);
   if (ec) throw Error("cannot create temporary folder: " + ec.message(), dir.string());
   try {
-    writeWithGdal(dir / target.filename(), map, FloorplanFormat::Shapefile, {});
+    try {
+      writeWithGdal(dir / target.filename(), map, FloorplanFormat::Shapefile, {});
+    } catch (const Error& e) {
+      throw Error(e.message(), target.string(), e.line(), e.field());  // the user's path, not ours
+    }
     std::vector<fs::path> files;
     for (const auto& entry : fs::directory_iterator(dir)) files.push_back(entry.path());
     std::sort(files.begin(), files.end(), [](const fs::path& a, const fs::path& b) {
@@ -375,6 +407,7 @@ void writeFloorplan(const fs::path& path, const VectorMap& map) {
       writeAtomically(path, [&](const fs::path& tmp) {
         writeWithGdal(tmp, map, format, header);
         io_detail::addDxfXData(tmp, map);
+        verifyWritten(tmp, format, map.segments.size());
       });
       return;
     }

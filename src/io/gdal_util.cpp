@@ -22,8 +22,16 @@ void CPL_STDCALL GdalErrorCollector::handler(CPLErr level, CPLErrorNum, const ch
 }
 
 std::string GdalErrorCollector::suffix() const {
+  // The first messages and the last (the one nearest the failure); drivers repeat themselves.
+  constexpr std::size_t kShown = 3;
   std::string out;
-  for (const std::string& m : messages_) out += (out.empty() ? ": GDAL: " : "; ") + m;
+  for (std::size_t i = 0; i < messages_.size(); ++i) {
+    if (i >= kShown && i + 1 < messages_.size()) {
+      if (i == kShown) out += "; ... (" + std::to_string(messages_.size() - kShown - 1) + " more)";
+      continue;
+    }
+    out += (out.empty() ? ": GDAL: " : "; ") + messages_[i];
+  }
   return out;
 }
 

@@ -4,6 +4,9 @@
 #include <cairo.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -12,6 +15,25 @@
 #include "glassmap/core/error.hpp"
 
 namespace glassmap {
+namespace {
+
+// Cairo's own PDF file output does not report a short write (a full disk leaves a truncated PDF
+// and CAIRO_STATUS_SUCCESS): write through a stream whose every write is checked.
+struct CheckedFile {
+  std::FILE* f = nullptr;
+  int error = 0;  // errno of the first failed write
+};
+
+cairo_status_t writeChecked(void* closure, const unsigned char* data, unsigned int length) {
+  auto* out = static_cast<CheckedFile*>(closure);
+  if (std::fwrite(data, 1, length, out->f) != length) {
+    if (out->error == 0) out->error = errno != 0 ? errno : EIO;
+    return CAIRO_STATUS_WRITE_ERROR;
+  }
+  return CAIRO_STATUS_SUCCESS;
+}
+
+}  // namespace
 
 void renderFloorplanPdf(const std::filesystem::path& out, const VectorMap& map, const PdfLayout& layout) {
   const Eigen::AlignedBox2d box = map.bounds();
@@ -30,7 +52,11 @@ void renderFloorplanPdf(const std::filesystem::path& out, const VectorMap& map, 
   const double w = size.x() * pt_per_m + 2 * margin, h = size.y() * pt_per_m + 2 * margin + legend_h;
 
   writeAtomically(out, [&](const std::filesystem::path& tmp) {
-    cairo_surface_t* surface = cairo_pdf_surface_create(tmp.c_str(), w, h);
+    CheckedFile file;
+    file.f = std::fopen(tmp.c_str(), "wb");
+    if (file.f == nullptr) throw Error(std::string("cannot create: ") + std::strerror(errno), out.string());
+    std::unique_ptr<std::FILE, decltype(&std::fclose)> fg(file.f, std::fclose);
+    cairo_surface_t* surface = cairo_pdf_surface_create_for_stream(writeChecked, &file, w, h);
     std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> sg(surface, cairo_surface_destroy);
     if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) throw Error("cannot create a PDF surface", out.string());
     cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE,
@@ -67,6 +93,9 @@ void renderFloorplanPdf(const std::filesystem::path& out, const VectorMap& map, 
     cairo_show_page(cr);
     cairo_destroy(cg.release());
     cairo_surface_finish(surface);
+    const bool flushed = std::fflush(file.f) == 0;
+    if (!flushed && file.error == 0) file.error = errno;
+    if (file.error != 0) throw Error(std::string("cannot write PDF: ") + std::strerror(file.error), out.string());
     if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) throw Error("cannot write PDF", out.string());
   });
 }

@@ -1,5 +1,11 @@
 #include "glassmap/pipeline/map_files.hpp"
 
+#include <algorithm>
+#include <string>
+#include <system_error>
+
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
 #include "glassmap/core/labels.hpp"
 #include "glassmap/io/render_labels.hpp"
 #include "glassmap/vector/export.hpp"
@@ -33,20 +39,47 @@ LabelRaster toLabelRaster(const glass::CellEvidence& e) {
 
 std::vector<std::filesystem::path> writeMapFiles(const std::filesystem::path& dir, const MapResult& result,
                                                  bool floorplan_files) {
+  namespace fs = std::filesystem;
   const glass::CellEvidence& e = result.evidence;
-  std::filesystem::create_directories(dir);
-  std::vector<std::filesystem::path> written;
-  writeRosMap(dir / "map.yaml", toRosMap(e));
-  written.push_back(dir / "map.yaml");
-  written.push_back(dir / "map.pgm");
-  writeLabelRaster(dir / "labels.tif", toLabelRaster(e));
-  written.push_back(dir / "labels.tif");
-  writeLabelsPng(dir / "map.png", e.geometry.width, e.geometry.height, e.label, e.bins);
-  written.push_back(dir / "map.png");
-  if (floorplan_files && result.has_floorplan) {
-    const auto files = vector::writeFloorplanSet(dir / "floorplan", result.floorplan.map);
-    written.insert(written.end(), files.begin(), files.end());
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw Error("cannot create the output folder: " + ec.message(), dir.string());
+  const fs::path staging = temporarySibling(dir / "map-files");
+  const LiveTemporary live(staging, /*is_directory=*/true);  // a signal removes it too
+  fs::create_directory(staging, ec);
+  if (ec) throw Error("cannot create a staging folder: " + ec.message(), dir.string());
+  std::vector<fs::path> names;
+  try {
+    writeRosMap(staging / "map.yaml", toRosMap(e));
+    writeLabelRaster(staging / "labels.tif", toLabelRaster(e));
+    writeLabelsPng(staging / "map.png", e.geometry.width, e.geometry.height, e.label, e.bins);
+    if (floorplan_files && result.has_floorplan) vector::writeFloorplanSet(staging / "floorplan", result.floorplan.map);
+    for (const auto& entry : fs::directory_iterator(staging)) names.push_back(entry.path().filename());
+  } catch (const Error& err) {
+    fs::remove_all(staging, ec);
+    // Name the user's folder, not the staging one.
+    throw Error(err.message(), (dir / fs::path(err.file()).filename()).string(), err.line(), err.field());
+  } catch (...) {
+    fs::remove_all(staging, ec);
+    throw;
   }
+  std::sort(names.begin(), names.end());
+
+  // Swap in: the old manifest goes first, so an interrupted swap leaves a folder without one.
+  fs::remove(dir / kMapManifest, ec);
+  if (!(floorplan_files && result.has_floorplan))
+    for (const char* ext : {".gpkg", ".geojson", ".dxf", ".svg", ".png"}) fs::remove(dir / ("floorplan" + std::string(ext)), ec);
+  std::vector<fs::path> written;
+  for (const fs::path& name : names) {
+    fs::rename(staging / name, dir / name, ec);
+    if (ec) {
+      const std::string why = ec.message();
+      fs::remove_all(staging, ec);
+      throw Error("cannot move the output into place: " + why, (dir / name).string());
+    }
+    written.push_back(dir / name);
+  }
+  fs::remove(staging, ec);
   return written;
 }
 

@@ -6,12 +6,21 @@
 
 namespace glassmap {
 
-/// Calls write(tmp) with a temporary path next to `target`, then renames tmp over target.
-/// If write throws, the temporary is removed, target is left as it was, and the error rethrown.
+/// Calls write(tmp) with a temporary path next to `target`, flushes tmp to disk (fsync), then
+/// renames tmp over target. If write or the flush fails, the temporary is removed, target is left
+/// as it was, and the error rethrown (an Error naming tmp is rethrown naming target).
 /// The temporary keeps target's extension so that format-sniffing writers (GDAL) still work.
 /// While it exists the temporary is registered as a LiveTemporary (see installSignalCleanup).
 void writeAtomically(const std::filesystem::path& target,
                      const std::function<void(const std::filesystem::path& tmp)>& write);
+
+/// Checks that `dir` can be written (it, or the deepest of its ancestors that exists, takes a new
+/// file), so that a long run fails before it starts rather than at its end; creates nothing.
+/// Throws Error naming dir with the system's reason.
+void checkWritableDirectory(const std::filesystem::path& dir);
+
+/// Flushes a written file to disk (fsync); throws Error with the system's reason on failure.
+void syncToDisk(const std::filesystem::path& path);
 
 /// Temporary sibling path for target: "<dir>/.<stem>.tmp<pid>-<n><ext>".
 std::filesystem::path temporarySibling(const std::filesystem::path& target);

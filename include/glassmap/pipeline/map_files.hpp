@@ -19,9 +19,16 @@ OccupancyGridMap toRosMap(const glass::CellEvidence& evidence);
 /// The labels as file codes (core/labels.hpp) on the same grid.
 LabelRaster toLabelRaster(const glass::CellEvidence& evidence);
 
+/// The name of the file written last into a map folder (by the caller, e.g. `glassmap map`'s
+/// stats.json): writeMapFiles removes it first, so a folder without it holds an incomplete set.
+inline constexpr const char* kMapManifest = "stats.json";
+
 /// Writes into `dir` (created if missing): map.yaml + map.pgm, labels.tif, map.png and, when
-/// `floorplan_files` and the result has a floorplan, floorplan.{gpkg,geojson,dxf,svg,png}. Each
-/// file is written atomically. Returns the paths written.
+/// `floorplan_files` and the result has a floorplan, floorplan.{gpkg,geojson,dxf,svg,png}.
+/// Everything is first written into a hidden staging folder inside `dir`; only when every file is
+/// complete is the previous run's manifest (kMapManifest) removed, each file renamed into place,
+/// and the previous run's floorplan files removed when this run writes none. A failure or a
+/// signal before that leaves `dir` as it was. Returns the paths written.
 std::vector<std::filesystem::path> writeMapFiles(const std::filesystem::path& dir, const MapResult& result,
                                                  bool floorplan_files = true);
 
