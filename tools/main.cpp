@@ -1,5 +1,6 @@
 // glassmap: laser logs to glass-aware maps, vector floorplans and localization.
 #include <iostream>
+#include <new>
 
 #include "cli_common.hpp"
 #include "glassmap/core/atomic_file.hpp"
@@ -21,6 +22,11 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const glassmap::Error& e) {
     std::cerr << "glassmap: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "glassmap: error: out of memory (peak so far " << glassmap::cli::peakMemoryBytes() / 1000000
+              << " MB): the input asks for more than this machine can give; see the verb's --max-memory or\n"
+                 "check the input for coordinates far from the rest\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "glassmap: error: " << e.what() << "\n";

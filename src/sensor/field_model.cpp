@@ -11,7 +11,7 @@ DistanceGrid::DistanceGrid(const VectorMap& map, bool use_glass, double resoluti
   if (!(resolution > 0) || !(max_dist > 0))
     throw Error("distance grid resolution and max distance must be positive", {}, 0, "field_resolution");
   for (const MapSegment& s : map.segments)
-    if (use_glass || s.material == Material::Wall) segs_.push_back(s);
+    if ((use_glass || s.material == Material::Wall) && s.a.allFinite() && s.b.allFinite()) segs_.push_back(s);
   Eigen::AlignedBox2d box;
   for (const MapSegment& s : segs_) {
     box.extend(s.a);
@@ -21,12 +21,32 @@ DistanceGrid::DistanceGrid(const VectorMap& map, bool use_glass, double resoluti
   // Cover the segments plus max_dist and one cell so that bilinear reads stay inside.
   const Vec2 lo = box.min() - Vec2::Constant(max_dist + resolution);
   const Vec2 hi = box.max() + Vec2::Constant(max_dist + resolution);
-  nx_ = static_cast<int>(std::ceil((hi.x() - lo.x()) * inv_res_)) + 1;
-  ny_ = static_cast<int>(std::ceil((hi.y() - lo.y()) * inv_res_)) + 1;
+  const double nx = std::ceil((hi.x() - lo.x()) * inv_res_) + 1, ny = std::ceil((hi.y() - lo.y()) * inv_res_) + 1;
+  if (!(nx < 1e9 && ny < 1e9))
+    throw Error("the map spans more than 1e9 distance cells: a coordinate is absurdly far away", {}, 0, "segments");
+  nx_ = static_cast<int>(nx);
+  ny_ = static_cast<int>(ny);
   origin_ = lo;
-  d_.assign(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_), static_cast<float>(max_dist));
-  // Each segment updates only the cells within max_dist of its bounding box: the cost grows with
-  // the segments' length, not with the floor's area.
+  // Tiles of 64 cells, larger when the tile index would pass 4M entries (16 MB) on a huge extent.
+  constexpr double kMaxIndex = 4.0 * 1024 * 1024;
+  tile_ = std::max(64, static_cast<int>(std::ceil(std::sqrt(double(nx_) * double(ny_) / kMaxIndex))));
+  tiles_x_ = (nx_ - 1 + tile_ - 1) / tile_ + 1;
+  tiles_y_ = (ny_ - 1 + tile_ - 1) / tile_ + 1;
+  stride_ = static_cast<std::size_t>(tile_ + 1) * static_cast<std::size_t>(tile_ + 1);
+  // Refuse, before allocating, a grid over 1e9 samples (4 GB): segments of absurd total length.
+  double samples = 0.0;
+  for (const MapSegment& s : segs_) {
+    const Vec2 ext = (s.a - s.b).cwiseAbs() + Vec2::Constant(2 * max_dist + 2 * tile_ * resolution);
+    samples += std::min(ext.x() * inv_res_ * ext.y() * inv_res_, double(nx_) * double(ny_));
+  }
+  if (samples > 1e9)
+    throw Error("the distance grid would need about " + std::to_string(static_cast<long long>(samples * 4 / 1e9)) +
+                    " GB (over 1e9 cells of " + std::to_string(resolution) + " m): segments of implausible length",
+                {}, 0, "segments");
+  tile_index_.assign(static_cast<std::size_t>(tiles_x_) * static_cast<std::size_t>(tiles_y_), -1);
+  // Each segment updates only the samples within max_dist of its bounding box: the cost and the
+  // memory grow with the segments' length, not with the floor's area. A tile holds samples
+  // tx * tile_ .. tx * tile_ + tile_ (one shared with its neighbour) so bilinear reads stay in it.
   for (const MapSegment& s : segs_) {
     const Vec2 smin = s.a.cwiseMin(s.b) - Vec2::Constant(max_dist);
     const Vec2 smax = s.a.cwiseMax(s.b) + Vec2::Constant(max_dist);
@@ -34,13 +54,36 @@ DistanceGrid::DistanceGrid(const VectorMap& map, bool use_glass, double resoluti
     const int j0 = std::max(0, static_cast<int>(std::floor((smin.y() - origin_.y()) * inv_res_)));
     const int i1 = std::min(nx_ - 1, static_cast<int>(std::ceil((smax.x() - origin_.x()) * inv_res_)));
     const int j1 = std::min(ny_ - 1, static_cast<int>(std::ceil((smax.y() - origin_.y()) * inv_res_)));
-    for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i) {
-        const Vec2 c = origin_ + res_ * Vec2(i, j);
-        float& cell = d_[static_cast<std::size_t>(j) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(i)];
-        cell = std::min(cell, static_cast<float>(s.distanceTo(c)));
+    for (int ty = std::max(0, (j0 - 1) / tile_); ty <= std::min(tiles_y_ - 1, j1 / tile_); ++ty)
+      for (int tx = std::max(0, (i0 - 1) / tile_); tx <= std::min(tiles_x_ - 1, i1 / tile_); ++tx) {
+        const int ta = std::max(i0, tx * tile_), tb = std::min(i1, tx * tile_ + tile_);
+        const int ua = std::max(j0, ty * tile_), ub = std::min(j1, ty * tile_ + tile_);
+        if (ta > tb || ua > ub) continue;
+        float* t = tileOf(tx, ty);
+        for (int j = ua; j <= ub; ++j)
+          for (int i = ta; i <= tb; ++i) {
+            const Vec2 c = origin_ + res_ * Vec2(i, j);
+            float& cell = t[static_cast<std::size_t>(j - ty * tile_) * static_cast<std::size_t>(tile_ + 1) +
+                            static_cast<std::size_t>(i - tx * tile_)];
+            cell = std::min(cell, static_cast<float>(s.distanceTo(c)));
+          }
       }
   }
+}
+
+float* DistanceGrid::tileOf(int tx, int ty) {
+  std::int32_t& k = tile_index_[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x_) +
+                                static_cast<std::size_t>(tx)];
+  if (k < 0) {
+    k = static_cast<std::int32_t>(tile_count_++);
+    values_.resize(tile_count_ * stride_, static_cast<float>(max_dist_));
+  }
+  return &values_[static_cast<std::size_t>(k) * stride_];
+}
+
+std::size_t DistanceGrid::bytes() const {
+  return values_.capacity() * sizeof(float) + tile_index_.capacity() * sizeof(std::int32_t) +
+         segs_.capacity() * sizeof(MapSegment);
 }
 
 Eigen::AlignedBox2d DistanceGrid::bounds() const {
@@ -55,9 +98,15 @@ double DistanceGrid::distance(const Vec2& p) const {
   const double fy = (p.y() - origin_.y()) * inv_res_;
   if (!(fx >= 0.0 && fy >= 0.0 && fx < nx_ - 1 && fy < ny_ - 1)) return max_dist_;
   const int i = static_cast<int>(fx), j = static_cast<int>(fy);
+  const int tx = i / tile_, ty = j / tile_;
+  const std::int32_t k = tile_index_[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x_) +
+                                     static_cast<std::size_t>(tx)];
+  if (k < 0) return max_dist_;
   const double u = fx - i, v = fy - j;
-  const float* c = &d_[static_cast<std::size_t>(j) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(i)];
-  const float* n = c + nx_;
+  const float* c = &values_[static_cast<std::size_t>(k) * stride_ +
+                            static_cast<std::size_t>(j - ty * tile_) * static_cast<std::size_t>(tile_ + 1) +
+                            static_cast<std::size_t>(i - tx * tile_)];
+  const float* n = c + (tile_ + 1);
   return (1 - v) * ((1 - u) * c[0] + u * c[1]) + v * ((1 - u) * n[0] + u * n[1]);
 }
 

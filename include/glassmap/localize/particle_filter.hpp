@@ -35,6 +35,8 @@ struct FilterOptions {
   double relocalize_ratio = 0.02;  ///< w_fast / w_slow below this: the robot is lost beyond what
                                    ///< injection repairs; restart global localization (0 = never)
   double free_clearance = 0.2;   ///< random particles keep this distance from segments [m]
+  double free_reach = 40.0;      ///< ... and lie within this of some segment's box [m]: farther, a
+                                 ///< laser sees nothing (bounds memory when a map has strays far away)
   double global_temperature = 30.0;  ///< while the cloud is spread (global localization), the
                                      ///< log-likelihoods are divided by this: annealing that keeps
                                      ///< near-miss hypotheses alive [-]; 1 = off
@@ -80,12 +82,18 @@ class ParticleFilter {
 
  private:
   void resample();
+  void collectFreeCells();
   void normalise();
 
   const sensor::SensorModel& model_;
   FilterOptions opt_;
   std::mt19937_64 rng_;
   std::vector<Particle> particles_;
+  /// Public for tests: the centres random particles are drawn around.
+ public:
+  const std::vector<Vec2>& freeCells() const { return free_cells_; }
+
+ private:
   std::vector<Vec2> free_cells_;  // centres of free cells to draw random particles from
   double free_cell_ = 0.1;        // their size [m]
   double w_slow_ = 0.0, w_fast_ = 0.0;

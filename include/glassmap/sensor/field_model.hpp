@@ -2,6 +2,7 @@
 /// The likelihood-field model (Probabilistic Robotics 6.4; ROS AMCL's default): each beam's
 /// end point scored by its distance to the nearest map segment, read from a precomputed grid.
 
+#include <cstdint>
 #include <vector>
 
 #include "glassmap/sensor/sensor_model.hpp"
@@ -9,25 +10,36 @@
 namespace glassmap::sensor {
 
 /// Distance [m] from points to the nearest segment, sampled at cell centres and read bilinearly.
+///
+/// Stored in square tiles, allocated only where some segment lies within max_dist: memory follows
+/// the segments' length, not the map's bounding box (a stray segment far away costs a few tiles).
+/// Cells of no tile are max_dist away from every segment.
 class DistanceGrid {
  public:
   /// Distances to `segments` (those with use_glass false skip glass) up to max_dist [m].
   DistanceGrid(const VectorMap& map, bool use_glass, double resolution, double max_dist);
-  /// Interpolated distance at p [m], max_dist outside the grid.
+  /// Interpolated distance at p [m], max_dist outside the tiles.
   double distance(const Vec2& p) const;
   /// Distance at p from the exact segment geometry (the reference for tests) [m], clamped to max_dist.
   double exactDistance(const Vec2& p) const;
   double resolution() const { return res_; }
   double maxDistance() const { return max_dist_; }
-  Eigen::AlignedBox2d bounds() const;  ///< area covered [m]
-  std::size_t cells() const { return d_.size(); }
+  Eigen::AlignedBox2d bounds() const;  ///< area the tiles may cover [m]
+  std::size_t tiles() const { return tile_count_; }             ///< tiles allocated
+  std::size_t samples() const { return values_.size(); }        ///< distances stored
+  std::size_t bytes() const;                                    ///< memory held [bytes]
 
  private:
+  float* tileOf(int tx, int ty);  // allocates on first use
   std::vector<MapSegment> segs_;
-  std::vector<float> d_;
+  std::vector<std::int32_t> tile_index_;  // [ty * tiles_x_ + tx]: tile number, -1 = none
+  std::vector<float> values_;             // tile k: (tile_ + 1)^2 samples from k * stride_
+  std::size_t tile_count_ = 0;
   Vec2 origin_ = Vec2::Zero();  // centre of cell (0, 0) [m]
   double res_ = 0.025, inv_res_ = 40.0, max_dist_ = 1.0;
-  int nx_ = 0, ny_ = 0;
+  int nx_ = 0, ny_ = 0;                    // samples along x and y
+  int tile_ = 64, tiles_x_ = 0, tiles_y_ = 0;  // tile side [cells] and tile counts
+  std::size_t stride_ = 0;                 // (tile_ + 1)^2
 };
 
 /// "field": p(z) = z_hit N(dist(end point); 0, sigma) + z_rand / z_max for z < z_max; a max reading
