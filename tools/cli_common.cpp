@@ -2,12 +2,14 @@
 
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
+#include "glassmap/io/floorplan.hpp"
 
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <vector>
 
@@ -37,6 +39,25 @@ CLI::App& verb(CLI::App& app, const std::string& name, const std::string& descri
   CLI::App* sub = app.add_subcommand(name, description);
   sub->require_subcommand(1);
   return *sub;
+}
+
+VectorMap readPlan(const std::string& path, const std::string& units, bool quiet, std::string* warning_out) {
+  FloorplanUnits assumed;
+  FloorplanReadOptions read;
+  read.units = &assumed;
+  if (!units.empty()) read.unit_in_metres = parseLengthUnit(units, "units");
+  VectorMap map = readFloorplan(path, read);
+  const std::string warning = implausibleExtentWarning(map, assumed, path);
+  if (!quiet && !warning.empty()) std::cerr << "glassmap: warning: " << warning << "\n";
+  if (warning_out != nullptr) *warning_out = warning;
+  return map;
+}
+
+void addUnitsOption(CLI::App& cmd, std::string& units) {
+  cmd.add_option("--units", units,
+                 "units of the floorplan's coordinates, overriding what the file declares (CRS units,\n"
+                 "DXF $INSUNITS; GDAL's default DXF header says inches): m, cm, mm, in, ft, us-ft, ... or\n"
+                 "metres per unit; default: the file's own, metres when it declares none");
 }
 
 void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "glassmap/core/pose2.hpp"
+#include "glassmap/geometry/vector_map.hpp"
 
 namespace glassmap::cli {
 
@@ -29,6 +30,16 @@ CLI::App& verb(CLI::App& app, const std::string& name, const std::string& descri
 
 /// Writes `j` (indented, newline-terminated) to `path` atomically; throws Error on failure.
 void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j);
+
+/// Reads a floorplan with `units` ("" = the file's own; else a parseLengthUnit name or number)
+/// and says on stderr what it assumed when that is doubtful: a warning when the plan's extent is
+/// implausible for a building (naming the units read and --units), unless `quiet`. The warning
+/// text (empty when none) also goes to *warning when given.
+VectorMap readPlan(const std::string& path, const std::string& units, bool quiet = false,
+                   std::string* warning = nullptr);
+
+/// Adds --units to a verb that reads floorplans (help text shared).
+void addUnitsOption(CLI::App& cmd, std::string& units);
 
 /// Parses "x,y,theta" [m, m, rad]; throws Error naming `field` otherwise.
 Pose2 parsePose(const std::string& text, const std::string& field);

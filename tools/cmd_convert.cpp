@@ -13,12 +13,12 @@ namespace {
 struct ConvertArgs {
   std::string in, out;
   bool quiet = false;
-  FloorplanReadOptions read;
+  std::string units;
 };
 
 void run(const ConvertArgs& args) {
   const FloorplanFormat format = floorplanFormatFromPath(args.out);  // fail before reading
-  const VectorMap map = readFloorplan(args.in, args.read);
+  const VectorMap map = cli::readPlan(args.in, args.units == "0" ? "" : args.units, args.quiet);
   if (map.segments.empty()) throw Error("no line segments found in floorplan", args.in);
   writeFloorplan(args.out, map);
   if (args.quiet) return;
@@ -42,11 +42,10 @@ const cli::Registrar reg(20, [](CLI::App& app) {
       "name and renamed, so a failed run leaves no partial file.");
   sub->add_option("in", args->in, "input floorplan")->required()->check(CLI::ExistingFile);
   sub->add_option("out", args->out, "output floorplan; format from the extension")->required();
-  sub->add_option("--unit", args->read.unit_in_metres,
-                  "metres per input unit, overriding what the file declares (CRS units, DXF $INSUNITS; "
-                  "GDAL's default DXF header says inches); 0 = the file's own units, metres if none")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--units,--unit", args->units,
+                  "units of the input's coordinates, overriding what the file declares (CRS units, DXF\n"
+                  "$INSUNITS; GDAL's default DXF header says inches): m, cm, mm, in, ft, us-ft, ... or metres\n"
+                  "per unit (0 = the file's own); default: the file's own, metres when it declares none");
   sub->add_flag("-q,--quiet", args->quiet, "print nothing on success");
   sub->callback([args] { run(*args); });
 });

@@ -11,11 +11,12 @@ namespace {
 
 struct ExportArgs {
   std::string in, out;
+  std::string units;
   bool quiet = false;
 };
 
 void run(const ExportArgs& args) {
-  const VectorMap map = readFloorplan(args.in);
+  const VectorMap map = cli::readPlan(args.in, args.units);
   vector::exportFloorplan(args.out, map);
   if (!args.quiet)
     std::printf("wrote %s: %zu glass and %zu wall segments\n", args.out.c_str(), map.count(Material::Glass),
@@ -31,6 +32,7 @@ const cli::Registrar reg(55, [](CLI::App& app) {
   cmd->add_option("input", args->in, "floorplan (any OGR vector source: GPKG, GeoJSON, DXF, Shapefile, FlatGeobuf)")
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("output", args->out, "output file")->required();
+  cli::addUnitsOption(*cmd, args->units);
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing");
   cmd->callback([args] { run(*args); });
 });

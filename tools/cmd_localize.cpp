@@ -1,5 +1,6 @@
 // glassmap localize --map FLOORPLAN LOG -o EST.tum: options, one pipeline::localizeLog call, the files.
 #include <filesystem>
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -24,6 +25,7 @@ struct LocalizeArgs {
   bool fixed = false;
   int beams = 15;
   std::string init;
+  std::string units;
   std::string laser_offset;
   std::uint64_t seed = 1;
   double sigma_hit = 0.05;
@@ -33,8 +35,13 @@ struct LocalizeArgs {
 };
 
 void run(const LocalizeArgs& a) {
-  const VectorMap map = readFloorplan(a.map);
+  std::string scale_warning;
+  const VectorMap map = cli::readPlan(a.map, a.units, /*quiet=*/true, &scale_warning);
   if (map.segments.empty()) throw Error("the map has no segments", a.map);
+  // Localizing against a plan of the wrong scale gives a confident wrong answer: without an
+  // explicit --units, refuse; with one, only warn.
+  if (!scale_warning.empty() && a.units.empty()) throw Error("refusing to localize: " + scale_warning);
+  if (!scale_warning.empty() && !a.quiet) std::cerr << "glassmap: warning: " << scale_warning << "\n";
   const LaserLog log = readCarmenLog(a.log);
   if (log.scans.empty()) throw Error("the log holds no scan", a.log);
 
@@ -50,7 +57,22 @@ void run(const LocalizeArgs& a) {
   opt.filter.inject = !a.no_inject;
   opt.filter.seed = a.seed;
   opt.filter.global_temperature = a.global_temperature;
-  if (!a.init.empty()) opt.init = cli::parsePose(a.init, "init");
+  if (!a.init.empty()) {
+    opt.init = cli::parsePose(a.init, "init");
+    // A start outside the plan is a wrong frame or wrong units, never a run to trust.
+    Eigen::AlignedBox2d box = map.bounds();
+    const double slack = 0.5 + 0.05 * (box.max() - box.min()).maxCoeff();
+    box.extend(box.min() - Vec2::Constant(slack));
+    box.extend(box.max() + Vec2::Constant(slack));
+    if (!box.contains(opt.init->t)) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "(%.2f, %.2f) lies outside the map's extent x %.2f .. %.2f, y %.2f .. %.2f m", opt.init->x(),
+                    opt.init->y(), box.min().x() + slack, box.max().x() - slack, box.min().y() + slack,
+                    box.max().y() - slack);
+      throw Error(std::string("the initial pose ") + buf + ": wrong units (see --units) or another frame?", a.map, 0,
+                  "init");
+    }
+  }
   if (!a.laser_offset.empty()) opt.T_base_laser = cli::parsePose(a.laser_offset, "laser-offset");
   if (!a.quiet && cli::stderrIsTerminal())
     std::cerr << "localizing " << log.scans.size() << " scans with the " << a.model << " model...\n";
@@ -116,6 +138,7 @@ const cli::Registrar reg(60, [](CLI::App& app) {
   sub->add_option("--beams", a->beams, "beams per scan, spread evenly (0: all)")->capture_default_str();
   sub->add_option("--init", a->init, "initial laser pose x,y,theta [m,m,rad]; without it: global localization");
   sub->add_option("--laser-offset", a->laser_offset, "laser pose on the robot x,y,theta [m,m,rad] (default 0,0,0)");
+  cli::addUnitsOption(*sub, a->units);
   sub->add_option("--sigma-hit", a->sigma_hit, "range std dev of the sensor models [m]")->capture_default_str();
   sub->add_option("--global-temperature", a->global_temperature,
                   "global localization: divide log-likelihoods by this until the cloud converges")

@@ -15,7 +15,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RenderArgs {
-  std::string floorplan, log, outcomes, out;
+  std::string floorplan, log, outcomes, out, units;
   double ppm = 40.0;
   int every = 10;
 };
@@ -24,7 +24,7 @@ struct RenderArgs {
 constexpr std::uint32_t kOutcomeColour[] = {0x9a9a9a, 0x2ca02c, 0xff7f0e, 0x17becf, 0x9467bd, 0xffffff};
 
 void run(const RenderArgs& args) {
-  const VectorMap map = readFloorplan(args.floorplan);
+  const VectorMap map = cli::readPlan(args.floorplan, args.units);
   FloorplanPicture pic;
   pic.pixels_per_metre = args.ppm;
   if (!args.log.empty()) {
@@ -70,6 +70,7 @@ const cli::Registrar reg(35, [](CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   sub->add_option("-o,--output", args->out, "output picture, .png or .svg")->required();
+  cli::addUnitsOption(*sub, args->units);
   sub->add_option("--log", args->log, "CARMEN log: draw its laser poses and scan endpoints")
       ->check(CLI::ExistingFile);
   sub->add_option("--outcomes", args->outcomes, "outcomes.bin written by 'glassmap simulate' for the same log")

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <system_error>
 
@@ -137,6 +139,49 @@ void readXData(OGRFeature& f, int raw_idx, FeatureAttrs& a, bool& has_thickness,
 
 std::string_view localMetricCrsWkt() { return kLocalWkt; }
 
+namespace {
+
+struct NamedUnit {
+  const char* name;
+  double metres;
+  const char* label;
+};
+constexpr NamedUnit kUnits[] = {{"m", 1.0, "metres"},         {"dm", 0.1, "decimetres"},
+                                {"cm", 0.01, "centimetres"},  {"mm", 0.001, "millimetres"},
+                                {"km", 1000.0, "kilometres"}, {"in", 0.0254, "inches"},
+                                {"ft", 0.3048, "feet"},       {"us-ft", 1200.0 / 3937.0, "US survey feet"},
+                                {"yd", 0.9144, "yards"}};
+
+std::string unitName(double metres) {
+  for (const NamedUnit& u : kUnits)
+    if (std::abs(u.metres - metres) <= 1e-9 * metres) return u.label;
+  return std::to_string(metres) + " m per unit";
+}
+
+}  // namespace
+
+double parseLengthUnit(const std::string& text, const std::string& field) {
+  for (const NamedUnit& u : kUnits)
+    if (lower(text) == u.name) return u.metres;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() && *end == '\0' && std::isfinite(v) && v > 0.0) return v;
+  throw Error("unknown unit '" + text + "' (expected m, dm, cm, mm, km, in, ft, us-ft, yd or metres per unit)", {}, 0,
+              field);
+}
+
+std::string implausibleExtentWarning(const VectorMap& map, const FloorplanUnits& units, const fs::path& path) {
+  const Eigen::AlignedBox2d box = map.bounds();
+  if (box.isEmpty()) return {};
+  const Vec2 size = box.max() - box.min();
+  const double side = size.maxCoeff();
+  if (side >= 2.0 && side <= 5000.0) return {};
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "the plan spans %.3g x %.3g m", size.x(), size.y());
+  return path.string() + ": " + buf + ", implausible for a building floor, with its units read as " +
+         units.source + "; if that is wrong, pass --units (m, cm, mm, in, ft, ...)";
+}
+
 FloorplanFormat floorplanFormatFromPath(const fs::path& path) {
   const std::string ext = lower(path.extension().string());
   if (ext == ".gpkg") return FloorplanFormat::Gpkg;
@@ -187,8 +232,12 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
     throw Error("unit_in_metres must be positive (or 0 for the file's own units)", file);
   const bool is_dxf = EQUAL(ds->GetDriverName(), "DXF");
   const double dxf_unit = is_dxf ? io_detail::dxfUnitInMetres(path) : 0.0;
+  bool first_layer = true;
   for (OGRLayer* layer : ds->GetLayers()) {
     double to_m = dxf_unit > 0.0 ? dxf_unit : 1.0;
+    std::string source = dxf_unit > 0.0 ? "DXF $INSUNITS (" + unitName(dxf_unit) + ")"
+                         : is_dxf      ? "no DXF $INSUNITS: metres"
+                                       : "none declared: metres";
     // GDAL reports every GeoJSON layer as WGS 84 (the RFC 7946 default); a glassmap GeoJSON is
     // local metres by convention, so its CRS is ignored.
     const bool is_geojson = EQUAL(ds->GetDriverName(), "GeoJSON") || EQUAL(ds->GetDriverName(), "GeoJSONSeq");
@@ -198,10 +247,17 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
         throw Error("layer '" + std::string(layer->GetName()) +
                         "' is in geographic coordinates (degrees); a floorplan needs local metres",
                     file);
-      to_m = srs->GetLinearUnits(nullptr);
+      const char* unit_name = nullptr;
+      to_m = srs->GetLinearUnits(&unit_name);
       if (!(to_m > 0.0)) to_m = 1.0;
+      source = std::string("CRS linear unit (") + (unit_name ? unit_name : "?") + ")";
     }
-    if (options.unit_in_metres > 0.0) to_m = options.unit_in_metres;
+    if (options.unit_in_metres > 0.0) {
+      to_m = options.unit_in_metres;
+      source = "option (" + unitName(to_m) + ")";
+    }
+    if (first_layer && options.units != nullptr) *options.units = {to_m, source};
+    first_layer = false;
     OGRFeatureDefn* defn = layer->GetLayerDefn();
     const int material_idx = defn->GetFieldIndex("material");
     const int thickness_idx = defn->GetFieldIndex("thickness");

@@ -7,6 +7,7 @@
 /// (WALL, GLASS) and the other attributes in the entity's XDATA (application GLASSMAP).
 
 #include <filesystem>
+#include <string>
 #include <string_view>
 
 #include "glassmap/geometry/vector_map.hpp"
@@ -23,11 +24,28 @@ FloorplanFormat floorplanFormatFromPath(const std::filesystem::path& path);
 /// GDAL driver name of a format ("GPKG", "GeoJSON", "ESRI Shapefile", "FlatGeobuf", "DXF").
 std::string_view gdalDriverName(FloorplanFormat format);
 
+/// What readFloorplan assumed about units (for the caller to report).
+struct FloorplanUnits {
+  double unit_in_metres = 1.0;  ///< metres per file unit used for the first layer
+  std::string source;           ///< where it came from: "option", "DXF $INSUNITS 1 (inches)", "CRS
+                                ///< linear unit (US survey foot)", "none declared: metres"
+};
+
 /// Options of readFloorplan.
 struct FloorplanReadOptions {
   double unit_in_metres = 0.0;  ///< metres per file unit; 0: from the file (CRS linear units, DXF
                                 ///< $INSUNITS; metres when the file declares none)
+  FloorplanUnits* units = nullptr;  ///< if set, receives what was assumed
 };
+
+/// Metres per unit of a unit name: m, dm, cm, mm, km, in, ft, us-ft, yd; or a positive number
+/// (metres per unit). Throws Error naming `field` otherwise.
+double parseLengthUnit(const std::string& text, const std::string& field = "units");
+
+/// A warning when a plan's extent is implausible for a building floor (larger side under 2 m or
+/// over 5 km), naming the units assumed and what to pass instead; empty when plausible.
+std::string implausibleExtentWarning(const VectorMap& map, const FloorplanUnits& units,
+                                     const std::filesystem::path& path);
 
 /// Reads every line of any OGR vector source: LineString, MultiLineString and polygon rings;
 /// a polyline becomes its consecutive segments. Material from the `material` field, else from a
