@@ -171,9 +171,35 @@ double parseLengthUnit(const std::string& text, const std::string& field) {
 }
 
 std::string implausibleExtentWarning(const VectorMap& map, const FloorplanUnits& units, const fs::path& path) {
-  const Eigen::AlignedBox2d box = map.bounds();
-  if (box.isEmpty()) return {};
-  const Vec2 size = box.max() - box.min();
+  // The bulk of the drawing: 1st to 99th percentile of the segment midpoints weighted by length,
+  // so that a stray segment far away (CAD files have them) does not make a building implausible.
+  std::vector<std::pair<double, double>> xs, ys;  // (coordinate, length)
+  double total = 0.0;
+  for (const MapSegment& s : map.segments) {
+    if (!s.a.allFinite() || !s.b.allFinite()) continue;
+    const double len = std::max(s.length(), 1e-9);
+    for (const Vec2& p : {s.a, s.b}) {
+      xs.emplace_back(p.x(), len / 2);
+      ys.emplace_back(p.y(), len / 2);
+    }
+    total += len;
+  }
+  if (xs.empty()) return {};
+  auto span = [&](std::vector<std::pair<double, double>>& v) {
+    std::sort(v.begin(), v.end());
+    double acc = 0.0, lo = v.front().first, hi = v.back().first;
+    bool have_lo = false;
+    for (const auto& [c, w] : v) {
+      acc += w;
+      if (!have_lo && acc >= 0.01 * total) lo = c, have_lo = true;
+      if (acc >= 0.99 * total) {
+        hi = c;
+        break;
+      }
+    }
+    return hi - lo;
+  };
+  const Vec2 size(span(xs), span(ys));
   const double side = size.maxCoeff();
   if (side >= 2.0 && side <= 5000.0) return {};
   char buf[160];

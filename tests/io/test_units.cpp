@@ -26,10 +26,17 @@ TEST(FloorplanUnits, ImplausibleExtentsAreNamedWithTheUnitsAssumed) {
   EXPECT_NE(w.find("inches"), std::string::npos) << w;
   EXPECT_NE(w.find("--units"), std::string::npos) << w;
   m.segments.clear();
-  m.add({0, 0}, {40, 25}, Material::Wall);
+  m.add({0, 0}, {40, 0}, Material::Wall);
+  m.add({40, 0}, {40, 25}, Material::Wall);
+  m.add({40, 25}, {0, 25}, Material::Glass);
+  m.add({0, 25}, {0, 0}, Material::Wall);
   EXPECT_TRUE(implausibleExtentWarning(m, inches, "plan.dxf").empty());
-  m.add({0, 0}, {9000, 0}, Material::Wall);  // 9 km: a millimetre drawing read as metres
-  EXPECT_FALSE(implausibleExtentWarning(m, {1.0, "none declared: metres"}, "plan.dxf").empty());
+  m.add({20000, 0}, {20001, 0}, Material::Wall);  // a stray far away: still a building
+  EXPECT_TRUE(implausibleExtentWarning(m, {1.0, "none declared: metres"}, "plan.dxf").empty());
+  VectorMap mm;  // a 40 x 25 m floor drawn in millimetres, read as metres
+  mm.add({0, 0}, {40000, 0}, Material::Wall);
+  mm.add({40000, 0}, {40000, 25000}, Material::Wall);
+  EXPECT_FALSE(implausibleExtentWarning(mm, {1.0, "none declared: metres"}, "plan.dxf").empty());
 }
 
 TEST(FloorplanUnits, TheReaderSaysWhatItAssumed) {

@@ -43,7 +43,9 @@ struct FloorplanReadOptions {
 double parseLengthUnit(const std::string& text, const std::string& field = "units");
 
 /// A warning when a plan's extent is implausible for a building floor (larger side under 2 m or
-/// over 5 km), naming the units assumed and what to pass instead; empty when plausible.
+/// over 5 km), naming the units assumed and what to pass instead; empty when plausible. The
+/// extent is that of the bulk of the drawing (1st to 99th percentile by segment length), so a
+/// stray segment far away does not count.
 std::string implausibleExtentWarning(const VectorMap& map, const FloorplanUnits& units,
                                      const std::filesystem::path& path);
 
