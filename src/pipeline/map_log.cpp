@@ -12,6 +12,20 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// Where the map is computed: logs in absolute coordinates (UTM, a building's survey grid: 10^5 to
+// 10^7 m) are mapped in a frame re-centred on their poses, so that no result depends on where the
+// frame's origin lies (single-precision values and squared distances lose centimetres out there).
+// Logs within 1 km of their origin are mapped where they are. The offset is a multiple of 64 m.
+Vec2 localOffset(const LaserLog& log) {
+  Eigen::AlignedBox2d box;
+  for (const LaserScan& s : log.scans)
+    if (s.laser_pose.t.allFinite()) box.extend(s.laser_pose.t);
+  if (box.isEmpty()) return Vec2::Zero();
+  const Vec2 centre = box.center();
+  if (centre.cwiseAbs().maxCoeff() < 1000.0) return Vec2::Zero();
+  return (centre / 64.0).array().round().matrix() * 64.0;
+}
+
 }  // namespace
 
 const char* toString(MapMethod method) {
@@ -29,8 +43,15 @@ MapMethod parseMapMethod(const std::string& name) {
   throw Error("unknown mapping method '" + name + "' (expected heuristic, direct or mrf)", {}, 0, "method");
 }
 
-MapResult mapLog(const LaserLog& log, const MapOptions& options, const Progress& progress) {
+MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
+  const Vec2 offset = localOffset(input);
+  LaserLog shifted;
+  if (!offset.isZero()) {
+    shifted.scans = input.scans;
+    for (LaserScan& s : shifted.scans) s.laser_pose.t -= offset;
+  }
+  const LaserLog& log = offset.isZero() ? input : shifted;
   auto report = [&](const char* stage, double f) {
     if (progress) progress(stage, f);
   };
@@ -74,6 +95,15 @@ MapResult mapLog(const LaserLog& log, const MapOptions& options, const Progress&
   }
   if (options.prune_unfitted_glass)
     out.pruned_glass = vector::pruneUnfittedGlass(out.evidence, out.floorplan.map, options.prune_tolerance);
+
+  // Back to the log's frame.
+  if (!offset.isZero()) {
+    out.evidence.geometry.origin += offset;
+    for (MapSegment& seg : out.floorplan.map.segments) {
+      seg.a += offset;
+      seg.b += offset;
+    }
+  }
 
   // The later steps relabel cells: count what comes out.
   out.stats.glass_cells = out.evidence.countGlass();
