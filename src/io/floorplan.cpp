@@ -1,6 +1,7 @@
 #include "glassmap/io/floorplan.hpp"
 
 #include <gdal_priv.h>
+#include <ogr_geometry.h>
 #include <ogr_spatialref.h>
 #include <ogrsf_frmts.h>
 
@@ -9,6 +10,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <memory>
 #include <string>
 #include <system_error>
 
@@ -231,6 +234,44 @@ std::string_view gdalDriverName(FloorplanFormat format) {
   return "";
 }
 
+namespace {
+
+// The marker glassmap writes into its GeoJSON (the collection's "description"): local metres.
+constexpr const char* kGeoJsonMarker = "glassmap floorplan: local metres";
+
+// What the text of a GeoJSON file says before its features: an old-style "crs" member, and
+// glassmap's marker.
+struct GeoJsonHead {
+  bool has_crs = false;
+  bool glassmap = false;
+};
+GeoJsonHead geoJsonHead(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(64 * 1024, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  const std::size_t features = head.find("\"features\"");
+  const std::string before = head.substr(0, features);
+  return {before.find("\"crs\"") != std::string::npos, before.find(kGeoJsonMarker) != std::string::npos};
+}
+
+// A transformation from a geographic CRS to metres of a transverse Mercator centred on (lon, lat):
+// a local metric frame in which a building's plan keeps its shape to well under a millimetre.
+std::unique_ptr<OGRCoordinateTransformation> toLocalMetres(const OGRSpatialReference& geographic, double lon,
+                                                           double lat, const std::string& file) {
+  OGRSpatialReference local;
+  local.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  if (local.SetWellKnownGeogCS("WGS84") != OGRERR_NONE || local.SetTM(lat, lon, 1.0, 0.0, 0.0) != OGRERR_NONE)
+    throw Error("cannot build a local transverse Mercator frame", file);
+  OGRSpatialReference src(geographic);
+  src.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<OGRCoordinateTransformation> ct(OGRCreateCoordinateTransformation(&src, &local));
+  if (!ct) throw Error("cannot transform the plan's geographic coordinates to metres (PROJ)", file);
+  return ct;
+}
+
+}  // namespace
+
 VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& options) {
   io_detail::ensureGdalRegistered();
   GdalErrorCollector errors;
@@ -264,15 +305,48 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
     std::string source = dxf_unit > 0.0 ? "DXF $INSUNITS (" + unitName(dxf_unit) + ")"
                          : is_dxf      ? "no DXF $INSUNITS: metres"
                                        : "none declared: metres";
-    // GDAL reports every GeoJSON layer as WGS 84 (the RFC 7946 default); a glassmap GeoJSON is
-    // local metres by convention, so its CRS is ignored.
+    // GDAL reports every GeoJSON layer as WGS 84 (RFC 7946: longitude/latitude). A GeoJSON that
+    // declares a CRS ("crs" member) is read in it; glassmap's own GeoJSON (marked) is local metres;
+    // an unmarked one without a CRS is longitude/latitude when read as metres it would be an
+    // implausibly small plan (under 2 m), else local metres (said in the units note).
     const bool is_geojson = EQUAL(ds->GetDriverName(), "GeoJSON") || EQUAL(ds->GetDriverName(), "GeoJSONSeq");
-    const OGRSpatialReference* srs = is_geojson ? nullptr : layer->GetSpatialRef();
+    const OGRSpatialReference* srs = layer->GetSpatialRef();
+    std::unique_ptr<OGRCoordinateTransformation> to_local;
+    if (is_geojson) {
+      const GeoJsonHead head = geoJsonHead(path);
+      OGREnvelope env;
+      const bool have_extent = layer->GetExtent(&env, TRUE) == OGRERR_NONE;
+      const bool lonlat_range = have_extent && env.MinX >= -180 && env.MaxX <= 180 && env.MinY >= -90 && env.MaxY <= 90;
+      const bool tiny = have_extent && std::max(env.MaxX - env.MinX, env.MaxY - env.MinY) < 2.0;
+      if (head.has_crs) {
+        // srs as declared
+      } else if (options.unit_in_metres > 0.0 || head.glassmap || !lonlat_range || !tiny) {
+        srs = nullptr;
+        source = head.glassmap ? "glassmap GeoJSON: local metres"
+                               : "no crs member: local metres assumed (RFC 7946 would read degrees; the plan's "
+                                 "size says metres)";
+      }
+      if (srs != nullptr && srs->IsGeographic() && !have_extent) srs = nullptr;
+    }
     if (srs) {
-      if (srs->IsGeographic())
-        throw Error("layer '" + std::string(layer->GetName()) +
-                        "' is in geographic coordinates (degrees); a floorplan needs local metres",
-                    file);
+      if (srs->IsGeographic()) {
+        if (options.unit_in_metres > 0.0)
+          throw Error("layer '" + std::string(layer->GetName()) + "' is in geographic coordinates: --units does not apply",
+                      file);
+        OGREnvelope env;
+        if (layer->GetExtent(&env, TRUE) != OGRERR_NONE)
+          throw Error("layer '" + std::string(layer->GetName()) + "' has no extent to centre a local frame on", file);
+        const double lon = 0.5 * (env.MinX + env.MaxX), lat = 0.5 * (env.MinY + env.MaxY);
+        to_local = toLocalMetres(*srs, lon, lat, file);
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "longitude/latitude (%s), projected to metres about %.6f, %.6f (transverse Mercator)",
+                      srs->GetName() ? srs->GetName() : "geographic", lon, lat);
+        source = buf;
+        to_m = 1.0;
+        srs = nullptr;
+      }
+    }
+    if (srs) {
       const char* unit_name = nullptr;
       to_m = srs->GetLinearUnits(&unit_name);
       if (!(to_m > 0.0)) to_m = 1.0;
@@ -321,7 +395,14 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
         a.support = static_cast<std::uint32_t>(std::max<GIntBig>(0, f->GetFieldAsInteger64(support_idx)));
       if (evidence_idx >= 0 && f->IsFieldSetAndNotNull(evidence_idx)) a.evidence = f->GetFieldAsDouble(evidence_idx);
       const std::size_t first = map.segments.size();
-      addSegments(f->GetGeometryRef(), to_m, a, map, skipped);
+      if (to_local) {
+        std::unique_ptr<OGRGeometry> g(f->GetGeometryRef() ? f->GetGeometryRef()->clone() : nullptr);
+        if (g && g->transform(to_local.get()) != OGRERR_NONE)
+          throw Error("cannot transform to local metres", file, 0, where + " geometry");
+        addSegments(g.get(), 1.0, a, map, skipped);
+      } else {
+        addSegments(f->GetGeometryRef(), to_m, a, map, skipped);
+      }
       for (std::size_t i = first; i < map.segments.size(); ++i) {  // e.g. 1e400 in GeoJSON reads as inf
         if (!map.segments[i].a.allFinite() || !map.segments[i].b.allFinite())
           throw Error("non-finite coordinate (after scaling to metres)", file, 0, where + " geometry");
@@ -383,7 +464,10 @@ void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat
     throw Error("cannot build the local metric CRS" + errors.suffix());
   CPLStringList layer_options;
   if (format == FloorplanFormat::FlatGeobuf) layer_options.SetNameValue("SPATIAL_INDEX", "NO");
-  if (format == FloorplanFormat::GeoJson) layer_options.SetNameValue("RFC7946", "NO");
+  if (format == FloorplanFormat::GeoJson) {
+    layer_options.SetNameValue("RFC7946", "NO");
+    layer_options.SetNameValue("DESCRIPTION", kGeoJsonMarker);  // read back as local metres
+  }
   if (format == FloorplanFormat::Shapefile) layer_options.SetNameValue("ENCODING", "UTF-8");
   OGRLayer* layer = ds->CreateLayer(kLayerName, with_crs ? &srs : nullptr, wkbLineString, layer_options.List());
   if (!layer) throw Error("cannot create layer" + errors.suffix(), target.string());

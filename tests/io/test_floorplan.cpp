@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <gdal_priv.h>
 #include <ogrsf_frmts.h>
 
@@ -251,7 +253,7 @@ TEST(Floorplan, BadInputsAreClearErrors) {
   EXPECT_THROW(readFloorplan(dir / "missing.gpkg"), Error);
   EXPECT_THROW(readFloorplan(dir.write("junk.gpkg", "not a geopackage")), Error);
 
-  // Geographic coordinates (degrees) are refused outside GeoJSON.
+  // Geographic coordinates (degrees) are projected to local metres about the layer's centre.
   const auto geo = dir / "geo.gpkg";
   {
     GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("GPKG");
@@ -266,7 +268,11 @@ TEST(Floorplan, BadInputsAreClearErrors) {
     f->SetGeometry(&ls);
     ASSERT_EQ(l->CreateFeature(f.get()), OGRERR_NONE);
   }
-  EXPECT_THROW(readFloorplan(geo), Error);
+  const VectorMap projected = readFloorplan(geo);
+  ASSERT_EQ(projected.segments.size(), 1u);
+  // 0.1 deg of longitude at 48.05 deg N is 7.44 km, 0.1 deg of latitude 11.12 km.
+  EXPECT_NEAR(projected.segments[0].length(), std::hypot(7444.0, 11120.0), 0.005 * 13400.0);
+  EXPECT_LT(projected.segments[0].a.norm() + projected.segments[0].b.norm(), 2 * 6800.0);  // centred
 
   // A map with a non-finite coordinate is refused before any file is made.
   VectorMap m = sampleMap();
