@@ -602,8 +602,10 @@ struct RunResult {
 };
 
 /// Starts the glassmap command with `args`, output to `log`; `cpus` > 0 pins it to that many of
-/// this process's CPUs (TBB sizes its thread pool from the affinity mask).
-pid_t spawnCli(const std::vector<std::string>& args, const fs::path& log, int cpus = 0) {
+/// this process's CPUs (TBB sizes its thread pool from the affinity mask); `max_file_bytes` caps
+/// every file it writes (the log included), as a full disk would.
+pid_t spawnCli(const std::vector<std::string>& args, const fs::path& log, int cpus = 0,
+               rlim_t max_file_bytes = RLIM_INFINITY) {
   std::fflush(nullptr);
   const pid_t pid = ::fork();
   if (pid == 0) {
@@ -625,6 +627,11 @@ pid_t spawnCli(const std::vector<std::string>& args, const fs::path& log, int cp
         }
       }
       sched_setaffinity(0, sizeof want, &want);
+    }
+    if (max_file_bytes != RLIM_INFINITY) {  // writes past the cap fail with EFBIG, no SIGXFSZ
+      std::signal(SIGXFSZ, SIG_IGN);
+      const rlimit fsize{max_file_bytes, max_file_bytes};
+      ::setrlimit(RLIMIT_FSIZE, &fsize);
     }
     std::vector<char*> argv;
     std::string exe = GLASSMAP_CLI;
@@ -771,6 +778,29 @@ TEST(InterruptedCli, ConvertKilledMidWriteLeavesNoPartialOutput) {
   }
   std::printf("[ %d runs interrupted mid-write, %d finished before the signal ]\n", interrupted, finished);
   EXPECT_GT(interrupted, 0) << "no run was caught mid-write: the test did not test anything";
+}
+
+// A JSON report that cannot be written out (here: a file size cap standing in for a full disk)
+// is an error, and neither a truncated report nor a temporary is left behind.
+TEST(InterruptedCli, JsonReportThatCannotBeWrittenIsAnErrorAndLeavesNoFile) {
+  TempDir dir;
+  std::string tum;
+  for (int k = 0; k < 5; ++k) tum += std::to_string(k) + " " + std::to_string(k) + " 0 0 0 0 0 1\n";
+  const auto truth = dir.write("truth.tum", tum);
+  const fs::path json = dir / "stats.json";
+  const pid_t pid = spawnCli({"eval", "traj", "-q", "--truth", truth.string(), truth.string(), "--json", json.string()},
+                             dir / "log.txt", 0, 200);  // the report is longer, the error message shorter
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const std::string out = readBytes(dir / "log.txt");
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << out;
+  EXPECT_NE(out.find("cannot write"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(json));
+  EXPECT_TRUE(temporariesIn(dir.path()).empty());
+  // Without the cap the same command writes the report.
+  ASSERT_TRUE(runCli({"eval", "traj", "-q", "--truth", truth.string(), truth.string(), "--json", json.string()})
+                  .exited(0));
+  EXPECT_NE(readBytes(json).find("\"rmse\": 0.0"), std::string::npos) << readBytes(json);
 }
 
 // ---------------------------------------------------------------------------------------------
