@@ -1,6 +1,8 @@
 // Tests of the glass module: labels, lobe, both classifiers on synthetic scans, rendering.
+#include <cairo.h>
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <random>
 
@@ -186,7 +188,24 @@ TEST(Render, WritesAPng) {
   std::filesystem::create_directories(dir);
   std::vector<std::uint8_t> labels = {kUnknown, kEmpty, kOccupied, static_cast<std::uint8_t>(glassLabel(9))};
   writeLabelsPng(dir / "tiny.png", 2, 2, labels, 36, {});
-  EXPECT_GT(std::filesystem::file_size(dir / "tiny.png"), 50U);
+  // Read back: 4 pixels per cell for a 2 x 2 grid, grid row 0 at the bottom, each cell in its colour.
+  cairo_surface_t* png = cairo_image_surface_create_from_png((dir / "tiny.png").c_str());
+  ASSERT_EQ(cairo_surface_status(png), CAIRO_STATUS_SUCCESS);
+  ASSERT_EQ(cairo_image_surface_get_width(png), 8);
+  ASSERT_EQ(cairo_image_surface_get_height(png), 8);
+  const unsigned char* data = cairo_image_surface_get_data(png);
+  const int stride = cairo_image_surface_get_stride(png);
+  for (int py = 0; py < 8; ++py) {
+    for (int px = 0; px < 8; ++px) {
+      const std::size_t cell = static_cast<std::size_t>(1 - py / 4) * 2 + static_cast<std::size_t>(px / 4);
+      const Rgb want = labelColour(labels[cell], 36);
+      std::uint32_t got = 0;
+      std::memcpy(&got, data + py * stride + px * 4, sizeof got);
+      EXPECT_EQ(got & 0xffffffu, (std::uint32_t{want.r} << 16) | (std::uint32_t{want.g} << 8) | want.b)
+          << "pixel " << px << ", " << py;
+    }
+  }
+  cairo_surface_destroy(png);
   EXPECT_THROW(writeLabelsPng(dir / "bad.png", 3, 2, labels, 36, {}), Error);
   EXPECT_NE(labelColour(glassLabel(0), 36).r, labelColour(glassLabel(18), 36).r);
 }
