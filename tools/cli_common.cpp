@@ -64,6 +64,7 @@ void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j) {
   writeAtomically(path, [&](const std::filesystem::path& tmp) {
     std::ofstream out(tmp);
     out << j.dump(2) << "\n";
+    out.close();  // a failed write shows only once the buffer is flushed
     if (!out) throw Error("cannot write", path.string());
   });
 }

@@ -120,7 +120,7 @@ void run(const BenchMrfArgs& args) {
                               {"psi", args.instance.empty() ? args.psi : "file"},
                               {"candidate_pairs", pairs}, {"movable_cells", movable},
                               {"start_energy", start_energy}, {"results", jrows}};
-    writeText(args.json, j.dump(2) + "\n");
+    cli::writeJsonFile(args.json, j);
   }
 }
 

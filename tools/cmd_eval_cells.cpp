@@ -1,12 +1,10 @@
 // glassmap eval cells --truth FLOORPLAN --labels DIR/labels.tif: Table I of a glass map.
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "cli_common.hpp"
-#include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/eval/cells.hpp"
 #include "glassmap/core/labels.hpp"
@@ -57,13 +55,7 @@ void run(const EvalCellsArgs& args) {
       {"tolerant", scoresJson(r.tolerant)},
       {"mean_angle_error_deg", r.mean_angle_error_deg},
       {"angle_cells", r.angle_cells}};
-  if (!args.json.empty()) {
-    writeAtomically(args.json, [&](const fs::path& tmp) {
-      std::ofstream out(tmp);
-      out << j.dump(2) << "\n";
-      if (!out) throw Error("cannot write", args.json);
-    });
-  }
+  if (!args.json.empty()) cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
   std::cout << j.dump(2) << "\n\n";
   std::printf("Table I (paper 2.5.6), tolerance %d cells\n", r.tolerance_cells);

@@ -1,10 +1,8 @@
 // glassmap eval traj --truth GT.tum EST.tum: absolute trajectory error (ATE) as evo prints it.
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "cli_common.hpp"
-#include "glassmap/core/atomic_file.hpp"
 #include "glassmap/eval/trajectory.hpp"
 #include "glassmap/io/tum.hpp"
 
@@ -33,8 +31,7 @@ void run(const EvalTrajArgs& a) {
                                 {"good_error", r.good_error},
                                 {"matched", r.matched},
                                 {"unmatched", r.unmatched}};
-  if (!a.json.empty())
-    writeAtomically(a.json, [&](const std::filesystem::path& tmp) { std::ofstream(tmp) << stats.dump(2) << "\n"; });
+  if (!a.json.empty()) cli::writeJsonFile(a.json, stats);
   if (!a.quiet) {
     std::printf("APE w.r.t. translation part (m), %zu poses matched, %zu unmatched\n", r.matched, r.unmatched);
     std::printf("  %-16s %10.4f\n", "max", r.max);

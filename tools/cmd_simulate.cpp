@@ -115,9 +115,7 @@ void run(const SimulateArgs& args) {
                       {"heading_change_deg", rad2deg(std::abs(angleDiff(k.to.theta, k.from.theta)))},
                       {"along_m", options.kidnap.to ? nlohmann::json(nullptr) : nlohmann::json(options.kidnap.along)}};
   }
-  writeAtomically(dir / "meta.json", [&](const fs::path& tmp) {
-    std::ofstream(tmp) << meta.dump(2) << "\n";
-  });
+  cli::writeJsonFile(dir / "meta.json", meta);
   if (!args.quiet) {
     std::printf("%-18s %12s\n", "scans", std::to_string(result.log.scans.size()).c_str());
     std::printf("%-18s %12zu\n", "beams", beams);

@@ -1,12 +1,6 @@
 #include "glassmap/io/carmen.hpp"
 
-#include <zlib.h>
-
-#include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <memory>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -14,6 +8,7 @@
 #include "glassmap/core/angles.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
+#include "gzip_lines.hpp"
 #include "text_parse.hpp"
 
 namespace glassmap {
@@ -42,108 +37,6 @@ double carmenGuessAngleIncrement(int num_beams) {
 namespace {
 
 constexpr double kCarmenDefaultMaxRange = 80.0;  // what CARMEN's readlog assumes for FLASER
-
-struct GzCloser {
-  void operator()(gzFile_s* f) const { gzclose(f); }
-};
-using GzHandle = std::unique_ptr<gzFile_s, GzCloser>;
-
-/// Reads lines from a plain or gzip file (zlib reads plain files transparently).
-/// Longest line the reader accepts [bytes].
-constexpr std::size_t kMaxLineBytes = std::size_t{64} << 20;
-
-class LineReader {
- public:
-  explicit LineReader(const fs::path& path) : name_(path.string()) {
-    file_.reset(gzopen(name_.c_str(), "rb"));
-    if (!file_) {
-      const int err = errno;
-      throw Error(std::string("cannot open: ") + (err ? std::strerror(err) : "out of memory"), name_);
-    }
-    gzbuffer(file_.get(), 1 << 17);
-    buffer_.grow(1 << 18, 0);
-  }
-
-  /// Next line without its '\n'; false at the end of the file.
-  bool next(std::string_view& line) {
-    for (;;) {
-      const char* begin = buffer_.data() + pos_;
-      const char* nl = static_cast<const char*>(std::memchr(begin, '\n', end_ - pos_));
-      if (nl) {
-        line = std::string_view(begin, static_cast<std::size_t>(nl - begin));
-        pos_ = static_cast<std::size_t>(nl - buffer_.data()) + 1;
-        ++line_number_;
-        return true;
-      }
-      if (eof_) {
-        if (pos_ == end_) return false;
-        line = std::string_view(begin, end_ - pos_);
-        pos_ = end_;
-        ++line_number_;
-        return true;
-      }
-      fill();
-    }
-  }
-
-  std::size_t lineNumber() const { return line_number_; }
-  const std::string& name() const { return name_; }
-
- private:
-  void fill() {
-    // Keep the unfinished line at the front, grow when one line exceeds the buffer.
-    const std::size_t rest = end_ - pos_;
-    if (pos_ > 0) std::memmove(buffer_.data(), buffer_.data() + pos_, rest);
-    pos_ = 0;
-    end_ = rest;
-    if (end_ == buffer_.size()) {
-      // Memory stays bounded on a file without line breaks: the longest legal line (1e6 beams
-      // and 1e6 remissions of a few characters each) is well below this.
-      if (buffer_.size() >= kMaxLineBytes)
-        throw Error("line longer than " + std::to_string(kMaxLineBytes >> 20) + " MiB (not a text log?)", name_,
-                    line_number_ + 1);
-      buffer_.grow(buffer_.size() * 2, end_);
-    }
-    const int n = gzread(file_.get(), buffer_.data() + end_, static_cast<unsigned>(buffer_.size() - end_));
-    if (n < 0) throwZlibError();
-    if (n == 0) {
-      int errnum = Z_OK;
-      gzerror(file_.get(), &errnum);
-      if (errnum != Z_OK && errnum != Z_STREAM_END) throwZlibError();
-      eof_ = true;
-    }
-    end_ += static_cast<std::size_t>(n);
-  }
-
-  [[noreturn]] void throwZlibError() {
-    int errnum = Z_OK;
-    const char* msg = gzerror(file_.get(), &errnum);
-    std::string text = errnum == Z_ERRNO ? std::strerror(errno) : (msg ? msg : "unknown zlib error");
-    throw Error("corrupt or truncated gzip data after line " + std::to_string(line_number_) + " (" +
-                    text + ")",
-                name_);
-  }
-
-  std::string name_;
-  GzHandle file_;
-  /// Growable byte buffer without zero-filling: only the bytes gzread writes are touched, so
-  /// reading a small file costs a page, not the whole buffer.
-  struct Buffer {
-    std::unique_ptr<char[]> bytes;
-    std::size_t capacity = 0;
-    char* data() { return bytes.get(); }
-    std::size_t size() const { return capacity; }
-    void grow(std::size_t n, std::size_t keep) {  // keeps the first `keep` bytes
-      auto bigger = std::make_unique_for_overwrite<char[]>(n);
-      if (keep) std::memcpy(bigger.get(), bytes.get(), keep);
-      bytes = std::move(bigger);
-      capacity = n;
-    }
-  };
-  Buffer buffer_;
-  std::size_t pos_ = 0, end_ = 0, line_number_ = 0;
-  bool eof_ = false;
-};
 
 /// Sequential reader over the numeric body of a line, naming fields in errors.
 class Body {
@@ -421,14 +314,13 @@ class CarmenParser {
     if (cb_.on_param) cb_.on_param(name, value);
   }
 
-  LineReader reader_;
+  io_detail::GzipLineReader reader_;
   const CarmenCallbacks& cb_;
   CarmenReadOptions opt_;
   LineContext ctx_;
   LogReadStats stats_;
   std::vector<std::string_view> tokens_;
-  double front_max_range_ = kCarmenDefaultMaxRange;
-  double rear_max_range_ = kCarmenDefaultMaxRange;
+  double front_max_range_ = kCarmenDefaultMaxRange, rear_max_range_ = kCarmenDefaultMaxRange;
   double fov_ = 0.0;
   bool have_scan_time_ = false;
   double last_scan_time_ = 0.0;
@@ -437,42 +329,18 @@ class CarmenParser {
 // ---------------------------------------------------------------------------------------------
 // Writing
 
-class GzWriter {
- public:
-  GzWriter(const fs::path& path, bool compress) : name_(path.string()) {
-    file_.reset(gzopen(name_.c_str(), compress ? "wb6" : "wbT"));
-    if (!file_) throw Error(std::string("cannot create: ") + std::strerror(errno), name_);
-  }
-  void write(std::string& text) {
-    if (text.empty()) return;
-    if (gzwrite(file_.get(), text.data(), static_cast<unsigned>(text.size())) != static_cast<int>(text.size()))
-      fail();
-    text.clear();
-  }
-  void close() {
-    if (gzclose(file_.release()) != Z_OK) throw Error("cannot finish writing (disk full?)", name_);
-  }
-
- private:
-  [[noreturn]] void fail() {
-    int errnum = Z_OK;
-    const char* msg = gzerror(file_.get(), &errnum);
-    throw Error(std::string("write failed: ") + (errnum == Z_ERRNO ? std::strerror(errno) : msg), name_);
-  }
-  std::string name_;
-  GzHandle file_;
-};
-
-void appendPose(std::string& out, const Pose2& p) {
-  for (double v : {p.x(), p.y(), p.theta}) {
+/// Appends " v0 v1 ...".
+void appendNumbers(std::string& out, std::initializer_list<double> values) {
+  for (double v : values) {
     out += ' ';
     io_detail::appendNumber(out, v);
   }
 }
 
+void appendPose(std::string& out, const Pose2& p) { appendNumbers(out, {p.x(), p.y(), p.theta}); }
+
 void appendTail(std::string& out, double timestamp) {
-  out += ' ';
-  io_detail::appendNumber(out, timestamp);
+  appendNumbers(out, {timestamp});
   out += " glassmap ";
   io_detail::appendNumber(out, timestamp);
   out += '\n';
@@ -482,14 +350,8 @@ void appendScan(std::string& out, const LaserScan& s) {
   if (s.laser_id < 1 || s.laser_id > 9) throw Error("laser_id must be 1..9, got " + std::to_string(s.laser_id));
   out += "ROBOTLASER";
   out += static_cast<char>('0' + s.laser_id);
-  out += " 0 ";  // laser_type: SICK LMS
-  io_detail::appendNumber(out, s.start_angle);
-  out += ' ';
-  io_detail::appendNumber(out, s.fieldOfView());
-  out += ' ';
-  io_detail::appendNumber(out, s.angular_step);
-  out += ' ';
-  io_detail::appendNumber(out, s.max_range);
+  out += " 0";  // laser_type: SICK LMS
+  appendNumbers(out, {s.start_angle, s.fieldOfView(), s.angular_step, s.max_range});
   out += " 0.01 0 ";  // accuracy, remission_mode
   io_detail::appendNumber(out, s.ranges.size());
   for (float r : s.ranges) {
@@ -528,16 +390,15 @@ LaserLog readCarmenLog(const fs::path& path, const CarmenReadOptions& options) {
 }
 
 void writeCarmenLog(const fs::path& path, const LaserLog& log) {
+  const auto isWord = [](const std::string& w) { return !w.empty() && w.find_first_of(" \t\n") == w.npos; };
   for (const auto& [name, value] : log.params) {
-    const bool bad = name.empty() || value.empty() ||
-                     std::any_of(name.begin(), name.end(), [](char c) { return c == ' ' || c == '\t' || c == '\n'; }) ||
-                     std::any_of(value.begin(), value.end(), [](char c) { return c == ' ' || c == '\t' || c == '\n'; });
-    if (bad) throw Error("PARAM name and value must be single non-empty words: '" + name + "' = '" + value + "'",
-                         path.string());
+    if (!isWord(name) || !isWord(value))
+      throw Error("PARAM name and value must be single non-empty words: '" + name + "' = '" + value + "'",
+                  path.string());
   }
-  const bool compress = path.extension() == ".gz";
+  // The temporary keeps the target's extension, so a ".gz" target is written compressed.
   writeAtomically(path, [&](const fs::path& tmp) {
-    GzWriter w(tmp, compress);
+    io_detail::GzipLineWriter w(tmp);
     std::string out;
     out.reserve(1 << 16);
     out += "# written by glassmap\n";
@@ -563,10 +424,7 @@ void writeCarmenLog(const fs::path& path, const LaserLog& log) {
         const StampedPose& p = odo[j++];
         out += "ODOM";
         appendPose(out, p.pose);
-        out += ' ';
-        io_detail::appendNumber(out, p.tv);
-        out += ' ';
-        io_detail::appendNumber(out, p.rv);
+        appendNumbers(out, {p.tv, p.rv});
         out += " 0";
         appendTail(out, p.timestamp);
       } else if (k < tru.size() && tt <= ts) {
@@ -578,7 +436,10 @@ void writeCarmenLog(const fs::path& path, const LaserLog& log) {
       } else {
         appendScan(out, scans[i++]);
       }
-      if (out.size() > (1 << 15)) w.write(out);
+      if (out.size() > (1 << 15)) {
+        w.write(out);
+        out.clear();
+      }
     }
     w.write(out);
     w.close();

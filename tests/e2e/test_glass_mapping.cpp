@@ -5,12 +5,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "glassmap/eval/cells.hpp"
 #include "glassmap/glass/mapping.hpp"
 #include "glassmap/io/carmen.hpp"
 #include "glassmap/sim/scene.hpp"
 #include "glassmap/sim/simulator.hpp"
+#include "test_data.hpp"
 
 namespace glassmap {
 namespace {
@@ -81,12 +83,13 @@ TEST(GlassMappingE2E, DirectGlassCorridorOtherSeed) {
 
 // The real logs map without error into maps with walls and little glass.
 TEST(GlassMappingE2E, RealLogsMap) {
-  const fs::path dir = fs::path(GLASSMAP_SOURCE_DIR) / ".." / "shared" / "data" / "real";
-  if (!fs::exists(dir)) GTEST_SKIP() << "no real logs at " << dir;
-  for (const char* name : {"freiburg-079-corrected.log.gz", "intel-corrected.log.gz", "aces-corrected.log.gz"}) {
-    const LaserLog log = readCarmenLog(dir / name);
+  const std::vector<std::string> names = {"freiburg-079-corrected.log.gz", "intel-corrected.log.gz",
+                                          "aces-corrected.log.gz"};
+  for (const auto& name : names) GLASSMAP_REQUIRE_SHARED_DATA(test::sharedData("real/" + name));
+  for (const auto& name : names) {
+    const LaserLog log = readCarmenLog(test::sharedData("real/" + name));
     const glass::MappingResult m = glass::mapLog(log, {});
-    std::printf("%-32s scans %zu observed %zu occupied %zu glass %zu bytes/cell %.1f\n", name, m.stats.scans,
+    std::printf("%-32s scans %zu observed %zu occupied %zu glass %zu bytes/cell %.1f\n", name.c_str(), m.stats.scans,
                 m.stats.observed_cells, m.stats.occupied_cells, m.stats.glass_cells, m.stats.bytes_per_observed_cell);
     EXPECT_GT(m.stats.occupied_cells, 1000U) << name;
     EXPECT_LT(m.stats.glass_cells, m.stats.occupied_cells) << name;

@@ -8,6 +8,7 @@
 #include "glassmap/core/angles.hpp"
 #include "glassmap/geometry/optics.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
+#include "test_data.hpp"
 
 using namespace glassmap;
 
@@ -140,9 +141,9 @@ TEST(RayCaster, MatchesBruteForceOnRandomMaps) {
 }
 
 TEST(RayCaster, MatchesBruteForceOnOfficeFloor) {
-  const std::string path = GLASSMAP_SOURCE_DIR "/../shared/data/bench/office-100m.geojson";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
-  const VectorMap map = test::readGeoJsonSegments(path);
+  const auto path = test::sharedData("bench/office-100m.geojson");
+  GLASSMAP_REQUIRE_SHARED_DATA(path);
+  const VectorMap map = test::readGeoJsonSegments(path.string());
   ASSERT_EQ(map.segments.size(), 2266u);
   std::mt19937 rng(11);
   const RayCaster caster(map);

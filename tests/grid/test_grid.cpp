@@ -148,9 +148,24 @@ TEST(ScanIntegration, WallIsOccupiedAndFreeSpaceFree) {
   const CellIndex behind = g.cellAt(Vec2(7.5, 0.0));
   EXPECT_EQ(grid.get(behind.x, behind.y).hits, 0);
   EXPECT_GT(grid.get(behind.x, behind.y).misses, 0);
-  // Memory follows what was seen: far fewer tiles than the bounding box holds.
-  EXPECT_GT(grid.observedCells(), 100U);
-  EXPECT_LE(grid.allocatedTiles() * HitMissGrid::kTileCells, g.cells() + 64U * HitMissGrid::kTileCells);
+  // Memory follows what was seen: exactly the tiles holding an observed cell are allocated, fewer
+  // than the bounding box holds.
+  std::set<std::pair<int, int>> seen_tiles;
+  std::size_t observed = 0;
+  for (int y = 0; y < g.height; ++y) {
+    for (int x = 0; x < g.width; ++x) {
+      const CellCounts c = grid.get(x, y);
+      if (c.hits == 0 && c.misses == 0) continue;
+      ++observed;
+      seen_tiles.emplace(x >> HitMissGrid::kTileBits, y >> HitMissGrid::kTileBits);
+    }
+  }
+  EXPECT_GT(observed, 100U);
+  EXPECT_EQ(grid.observedCells(), observed);
+  EXPECT_EQ(grid.allocatedTiles(), seen_tiles.size());
+  const int box_tiles_x = (g.width + HitMissGrid::kTileSize - 1) / HitMissGrid::kTileSize;
+  const int box_tiles_y = (g.height + HitMissGrid::kTileSize - 1) / HitMissGrid::kTileSize;
+  EXPECT_LT(grid.allocatedTiles(), static_cast<std::size_t>(box_tiles_x * box_tiles_y) / 2);
 }
 
 TEST(AngleHistograms, BinsWrapAtHalfTurn) {

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <string>
 
+#include "test_data.hpp"
+
 namespace glassmap::test {
 
 /// A new empty folder under the system temp dir, removed with everything in it at scope exit.
@@ -41,9 +43,7 @@ class TempDir {
   std::filesystem::path path_;
 };
 
-/// Path of a real log in the shared data folder beside the clone.
-inline std::filesystem::path realLog(const std::string& name) {
-  return std::filesystem::path(GLASSMAP_SOURCE_DIR) / ".." / "shared" / "data" / "real" / name;
-}
+/// Path of a real log in the shared data folder (use with GLASSMAP_REQUIRE_SHARED_DATA).
+inline std::filesystem::path realLog(const std::string& name) { return sharedData("real/" + name); }
 
 }  // namespace glassmap::test

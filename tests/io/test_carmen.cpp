@@ -89,7 +89,7 @@ class CarmenRealLogs : public ::testing::TestWithParam<RealLog> {};
 TEST_P(CarmenRealLogs, ParseWithRightCounts) {
   const RealLog& p = GetParam();
   const auto path = test::realLog(p.file);
-  ASSERT_TRUE(std::filesystem::exists(path)) << path << " missing (shared data lives beside the clone)";
+  GLASSMAP_REQUIRE_SHARED_DATA(path);
   const LaserLog log = readCarmenLog(path);
   EXPECT_EQ(log.scans.size(), p.scans);
   EXPECT_EQ(log.stats.scans, p.scans);
@@ -119,16 +119,22 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 TEST(Carmen, FreiburgMaxRangeFromParam) {
-  const LaserLog log = readCarmenLog(test::realLog("freiburg-079-corrected.log.gz"));
+  const auto freiburg = test::realLog("freiburg-079-corrected.log.gz");
+  const auto intel_path = test::realLog("intel-corrected.log.gz");
+  GLASSMAP_REQUIRE_SHARED_DATA(freiburg);
+  GLASSMAP_REQUIRE_SHARED_DATA(intel_path);
+  const LaserLog log = readCarmenLog(freiburg);
   EXPECT_EQ(log.params.at("robot_front_laser_max"), "80.99");
   EXPECT_DOUBLE_EQ(log.scans.front().max_range, 80.99);
-  const LaserLog intel = readCarmenLog(test::realLog("intel-corrected.log.gz"));
+  const LaserLog intel = readCarmenLog(intel_path);
   EXPECT_DOUBLE_EQ(intel.scans.front().max_range, 80.0);  // no PARAM: CARMEN's own guess
 }
 
 TEST(Carmen, RealLogRoundTrip) {
   TempDir dir;
-  const LaserLog log = readCarmenLog(test::realLog("intel-corrected.log.gz"));
+  const auto intel = test::realLog("intel-corrected.log.gz");
+  GLASSMAP_REQUIRE_SHARED_DATA(intel);
+  const LaserLog log = readCarmenLog(intel);
   for (const char* name : {"intel.clf", "intel.clf.gz"}) {
     writeCarmenLog(dir / name, log);
     const LaserLog back = readCarmenLog(dir / name);
@@ -296,7 +302,9 @@ TEST(Carmen, WrongBeamCountIsAnError) {
 
 TEST(Carmen, TruncatedGzipIsAClearError) {
   TempDir dir;
-  const std::string gz = readFileBytes(test::realLog("aces-corrected.log.gz"));
+  const auto aces = test::realLog("aces-corrected.log.gz");
+  GLASSMAP_REQUIRE_SHARED_DATA(aces);
+  const std::string gz = readFileBytes(aces);
   ASSERT_GT(gz.size(), 1000u);
   const auto p = dir.write("cut.log.gz", gz.substr(0, gz.size() / 2));
   expectReadError(p, {"truncated gzip"});
@@ -308,7 +316,9 @@ TEST(Carmen, TruncatedGzipIsAClearError) {
 
 TEST(Carmen, CompressionDetectedByContentNotExtension) {
   TempDir dir;
-  const std::string gz = readFileBytes(test::realLog("aces-corrected.log.gz"));
+  const auto aces = test::realLog("aces-corrected.log.gz");
+  GLASSMAP_REQUIRE_SHARED_DATA(aces);
+  const std::string gz = readFileBytes(aces);
   const auto misnamed = dir.write("aces.clf", gz);
   EXPECT_EQ(readCarmenLog(misnamed).scans.size(), 440u);
   const auto plain = dir.write("plain.log.gz", flaser(3, 3));
@@ -336,6 +346,7 @@ TEST(Carmen, MissingFileNamesIt) {
 
 TEST(Carmen, StreamingMatchesWholeRead) {
   const auto path = test::realLog("aces-corrected.log.gz");
+  GLASSMAP_REQUIRE_SHARED_DATA(path);
   std::size_t scans = 0, odom = 0, params = 0, beams = 0;
   CarmenCallbacks cb;
   cb.on_scan = [&](LaserScan&& s) {

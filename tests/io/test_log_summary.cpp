@@ -44,7 +44,9 @@ TEST(IoLogSummary, SyntheticFigures) {
 }
 
 TEST(IoLogSummary, FreiburgIsPlausible) {
-  const LogSummary s = summarizeCarmenLog(test::realLog("freiburg-079-corrected.log.gz"));
+  const auto freiburg = test::realLog("freiburg-079-corrected.log.gz");
+  GLASSMAP_REQUIRE_SHARED_DATA(freiburg);
+  const LogSummary s = summarizeCarmenLog(freiburg);
   EXPECT_EQ(s.scans, 4791u);
   EXPECT_EQ(s.beams_min, 360u);
   EXPECT_EQ(s.beams_max, 360u);

@@ -3,7 +3,7 @@
 // segment, inside the floor), 61 beams over 270 degrees, 25 m max range. Reports rays/s.
 //
 //   build-geo/tools/bench_raycast [--benchmark_filter=...]
-// Environment: GLASSMAP_BENCH_MAP overrides the GeoJSON path.
+// Environment: GLASSMAP_BENCH_MAP overrides the floorplan path (any format readFloorplan reads).
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
@@ -11,15 +11,13 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
-#include <nlohmann/json.hpp>
 #include <random>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "glassmap/core/angles.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
+#include "glassmap/io/floorplan.hpp"
 
 using namespace glassmap;
 
@@ -33,25 +31,7 @@ constexpr double kClearance = 0.2;
 
 VectorMap loadMap() {
   const char* env = std::getenv("GLASSMAP_BENCH_MAP");
-  const std::string path =
-      env ? env : GLASSMAP_SOURCE_DIR "/../shared/data/bench/office-100m.geojson";
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open " + path);
-  const nlohmann::json doc = nlohmann::json::parse(in);
-  VectorMap map;
-  for (const auto& f : doc.at("features")) {
-    const auto& coords = f.at("geometry").at("coordinates");
-    MapSegment proto;
-    proto.material = parseMaterial(f.at("properties").value("material", std::string("wall")));
-    proto.thickness = f.at("properties").value("thickness", 0.1);
-    for (std::size_t i = 1; i < coords.size(); ++i) {
-      MapSegment s = proto;
-      s.a = Vec2(coords[i - 1][0].get<double>(), coords[i - 1][1].get<double>());
-      s.b = Vec2(coords[i][0].get<double>(), coords[i][1].get<double>());
-      map.segments.push_back(s);
-    }
-  }
-  return map;
+  return readFloorplan(env ? env : GLASSMAP_SOURCE_DIR "/../shared/data/bench/office-100m.geojson");
 }
 
 struct Query {

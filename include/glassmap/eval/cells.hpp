@@ -52,7 +52,7 @@ struct CellEvalResult {
 std::vector<float> rasteriseGlass(const VectorMap& truth, const grid::GridGeometry& g,
                                   std::size_t* outside = nullptr);
 
-/// Scores a label grid (glass labels: 2 + k with pane normal at k * 180 / bins deg; see glass/labels.hpp).
+/// Scores a label grid (glass labels: 2 + k with pane normal at k * 180 / bins deg; see core/labels.hpp).
 CellEvalResult evaluateCells(const VectorMap& truth, const grid::GridGeometry& g,
                              const std::vector<std::uint8_t>& labels, int bins = 36,
                              const CellEvalOptions& options = {});

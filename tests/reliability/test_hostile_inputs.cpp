@@ -1,24 +1,16 @@
-// Reliability (issue 9): hostile inputs give a clear Error or a counted skip, never a crash, hang,
-// absurd allocation or silent garbage; an interrupted write leaves the old file or none; the same
-// inputs and seed give byte-identical outputs with one thread and with several.
-#include <fcntl.h>
+// Reliability (issue 9), readers: hostile inputs give a clear Error or a counted skip, never a
+// crash, hang, absurd allocation or silent garbage.
 #include <gdal.h>
-#include <sched.h>
-#include <sys/resource.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <limits>
 #include <random>
 #include <string>
@@ -28,7 +20,6 @@
 #include <gtest/gtest.h>
 
 #include "glassmap/core/angles.hpp"
-#include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
 #include "glassmap/io/carmen.hpp"
@@ -36,6 +27,7 @@
 #include "glassmap/io/labels_raster.hpp"
 #include "glassmap/io/ros_map.hpp"
 #include "glassmap/io/tum.hpp"
+#include "reliability/reliability_util.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 // AddressSanitizer keeps freed blocks in a quarantine (256 MiB by default), which would show up as
@@ -46,96 +38,7 @@ extern "C" const char* __asan_default_options() { return "quarantine_size_mb=8";
 namespace glassmap {
 namespace {
 
-namespace fs = std::filesystem;
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
-
-/// A fresh folder under the temp dir, removed at scope exit.
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("glassmap-reliability-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-  const fs::path& path() const { return path_; }
-  fs::path write(const std::string& name, const std::string& text) const {
-    const fs::path p = path_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-
- private:
-  fs::path path_;
-};
-
-std::string readBytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-/// Names in `dir` that look like writeAtomically's temporaries (".<stem>.tmp<pid>-<n><ext>").
-std::vector<std::string> temporariesIn(const fs::path& dir) {
-  std::vector<std::string> found;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    const std::string name = e.path().filename().string();
-    if (name.starts_with(".") && name.find(".tmp") != std::string::npos) found.push_back(name);
-  }
-  return found;
-}
-
-/// Expects `f` to throw an Error whose text holds `part`.
-template <class F>
-void expectErrorWith(F&& f, const std::string& part) {
-  try {
-    f();
-    ADD_FAILURE() << "no Error; expected one mentioning '" << part << "'";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-  }
-}
-
-/// Expects `f` to throw an Error naming `field` (and `line`, when not 0).
-template <class F>
-void expectErrorAt(F&& f, const std::string& field, std::size_t line = 0) {
-  try {
-    f();
-    ADD_FAILURE() << "no Error; expected one naming field '" << field << "'";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.field(), field) << e.what();
-    if (line != 0) {
-      EXPECT_EQ(e.line(), line) << e.what();
-    }
-  }
-}
-
-/// A FLASER line with the given range tokens (count as declared), pose (1, 2, 0), time t.
-std::string flaser(const std::vector<std::string>& ranges, double t, long declared = -1) {
-  std::string line = "FLASER " + std::to_string(declared < 0 ? static_cast<long>(ranges.size()) : declared);
-  for (const auto& r : ranges) line += " " + r;
-  char tail[128];
-  std::snprintf(tail, sizeof tail, " 1 2 0 1 2 0 %.6f host %.6f\n", t, t);
-  return line + tail;
-}
+using namespace reliability;
 
 // ---------------------------------------------------------------------------------------------
 // CARMEN logs
@@ -319,18 +222,6 @@ TEST(HostileTum, NonFiniteValuesAndShortLinesAreErrors) {
 // ---------------------------------------------------------------------------------------------
 // Floorplans and the ray caster built on them
 
-std::string geojsonLines(const std::vector<std::array<double, 4>>& segs) {
-  std::string s = R"({"type":"FeatureCollection","features":[)";
-  char buf[256];
-  for (std::size_t i = 0; i < segs.size(); ++i) {
-    std::snprintf(buf, sizeof buf,
-                  R"(%s{"type":"Feature","properties":{"material":"%s"},"geometry":{"type":"LineString","coordinates":[[%.17g,%.17g],[%.17g,%.17g]]}})",
-                  i ? "," : "", i % 2 ? "glass" : "wall", segs[i][0], segs[i][1], segs[i][2], segs[i][3]);
-    s += buf;
-  }
-  return s + "]}";
-}
-
 TEST(HostileFloorplan, ZeroLengthDuplicateOverlappingAndEnormousSegments) {
   TempDir dir;
   const std::vector<std::array<double, 4>> segs = {
@@ -507,308 +398,6 @@ TEST(HostileLabels, GeoTiffOfTheWrongTypeIsAClearError) {
   EXPECT_EQ(r.width, 4);
   EXPECT_EQ(r.height, 3);
 }
-
-// ---------------------------------------------------------------------------------------------
-// Nothing half-written
-
-/// Runs `body` in a forked child and returns its wait status.
-template <class F>
-int inChild(F&& body) {
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    body();
-    ::_exit(0);
-  }
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  return status;
-}
-
-TEST(Interrupted, SignalDuringAnAtomicWriteLeavesTheOldFileAndNoTemporary) {
-  for (const int sig : {SIGTERM, SIGINT, SIGHUP}) {
-    SCOPED_TRACE(sig);
-    TempDir dir;
-    const fs::path target = dir / "out.clf";
-    std::ofstream(target) << "old contents\n";
-    const int status = inChild([&] {
-      installSignalCleanup();
-      writeAtomically(target, [&](const fs::path& tmp) {
-        std::ofstream out(tmp);
-        out << "half of the new contents";
-        out.flush();
-        std::ofstream(dir / "tmp-name") << tmp.string();
-        ::raise(sig);  // delivered now: the handler removes tmp, then the process dies of sig
-        out << " and the rest\n";
-      });
-    });
-    ASSERT_TRUE(WIFSIGNALED(status)) << "child exited normally: the signal was swallowed";
-    EXPECT_EQ(WTERMSIG(status), sig);
-    EXPECT_EQ(readBytes(target), "old contents\n");
-    EXPECT_FALSE(fs::exists(readBytes(dir / "tmp-name")));
-    EXPECT_TRUE(temporariesIn(dir.path()).empty());
-  }
-}
-
-TEST(Interrupted, SignalRemovesARegisteredTemporaryFolderAndSqliteSidecars) {
-  TempDir dir;
-  const fs::path folder = dir / ".parts.tmp1-0.dir";
-  const fs::path gpkg = dir / ".out.tmp1-1.gpkg";
-  const fs::path dxf = dir / ".plan.tmp1-2.dxf";
-  const int status = inChild([&] {
-    installSignalCleanup();
-    fs::create_directory(folder);
-    const LiveTemporary live_folder(folder, true);
-    const LiveTemporary live_gpkg(gpkg);
-    for (const char* f : {"a.shp", "a.shx", "a.dbf", "a.prj"}) std::ofstream(folder / f) << "x";
-    std::ofstream(gpkg) << "x";
-    std::ofstream(gpkg.string() + "-journal") << "x";
-    const LiveTemporary live_dxf(dxf);
-    std::ofstream(dxf) << "x";
-    std::ofstream(dxf.string() + ".tmp") << "x";  // GDAL's DXF writer spools entities there
-    ::raise(SIGTERM);
-  });
-  ASSERT_TRUE(WIFSIGNALED(status));
-  EXPECT_FALSE(fs::exists(folder));
-  EXPECT_FALSE(fs::exists(gpkg));
-  EXPECT_FALSE(fs::exists(gpkg.string() + "-journal"));
-  EXPECT_FALSE(fs::exists(dxf));
-  EXPECT_FALSE(fs::exists(dxf.string() + ".tmp"));
-}
-
-TEST(Interrupted, AnIgnoredSignalStaysIgnoredAndAFinishedWriteIsKept) {
-  TempDir dir;
-  const fs::path target = dir / "out.txt";
-  const int status = inChild([&] {
-    std::signal(SIGHUP, SIG_IGN);  // nohup: the handler must not take SIGHUP over
-    installSignalCleanup();
-    writeAtomically(target, [&](const fs::path& tmp) {
-      std::ofstream(tmp) << "new\n";
-      ::raise(SIGHUP);
-    });
-  });
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0);
-  EXPECT_EQ(readBytes(target), "new\n");
-  EXPECT_TRUE(temporariesIn(dir.path()).empty());
-}
-
-#ifdef GLASSMAP_CLI
-
-struct RunResult {
-  int status = 0;
-  std::string output;  ///< stdout and stderr
-  bool exited(int code) const { return WIFEXITED(status) && WEXITSTATUS(status) == code; }
-};
-
-/// Starts the glassmap command with `args`, output to `log`; `cpus` > 0 pins it to that many of
-/// this process's CPUs (TBB sizes its thread pool from the affinity mask).
-pid_t spawnCli(const std::vector<std::string>& args, const fs::path& log, int cpus = 0) {
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
-    if (!kSanitized) {  // a runaway allocation fails in the child instead of swapping the machine
-      const rlimit as{std::size_t{6} << 30, std::size_t{6} << 30};
-      ::setrlimit(RLIMIT_AS, &as);
-    }
-    if (cpus > 0) {
-      cpu_set_t have, want;
-      CPU_ZERO(&want);
-      sched_getaffinity(0, sizeof have, &have);
-      for (int c = 0, taken = 0; c < CPU_SETSIZE && taken < cpus; ++c) {
-        if (CPU_ISSET(c, &have)) {
-          CPU_SET(c, &want);
-          ++taken;
-        }
-      }
-      sched_setaffinity(0, sizeof want, &want);
-    }
-    std::vector<char*> argv;
-    std::string exe = GLASSMAP_CLI;
-    argv.push_back(exe.data());
-    std::vector<std::string> copy = args;
-    for (auto& a : copy) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(exe.c_str(), argv.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
-RunResult runCli(const std::vector<std::string>& args, int cpus = 0) {
-  TempDir logdir;
-  const fs::path log = logdir / "out.txt";
-  const pid_t pid = spawnCli(args, log, cpus);
-  RunResult r;
-  ::waitpid(pid, &r.status, 0);
-  r.output = readBytes(log);
-  return r;
-}
-
-int usableCpus() {
-  cpu_set_t have;
-  sched_getaffinity(0, sizeof have, &have);
-  return CPU_COUNT(&have);
-}
-
-// `glassmap map` on a log full of hostile records: a clean run or a clear error, never a crash.
-TEST(HostileCli, MapOnAHostileLogEndsCleanly) {
-  TempDir dir;
-  std::string text;
-  for (int k = 0; k < 40; ++k) {
-    std::vector<std::string> r(181, "3.0");
-    r[3] = "nan";
-    r[4] = "-1";
-    r[5] = "1e30";
-    r[6] = "inf";
-    text += flaser(k % 7 == 0 ? std::vector<std::string>{} : r, k % 5 == 0 ? 1.0 : 1.0 + k);
-  }
-  const auto log = dir.write("hostile.clf", text);
-  const RunResult res = runCli({"map", log.string(), "-o", (dir / "out").string(), "-q"});
-  ASSERT_FALSE(WIFSIGNALED(res.status)) << "killed by signal " << WTERMSIG(res.status) << "\n" << res.output;
-  if (!res.exited(0)) {
-    EXPECT_NE(res.output.find("error"), std::string::npos) << res.output;
-  }
-}
-
-// A pose a million kilometres away: the grid would need absurd memory; it must be refused up
-// front (or mapped in memory that grows with what was observed), never exhaust the machine.
-TEST(HostileCli, MapWithAPoseFarOutsideTheMapDoesNotExhaustMemory) {
-  TempDir dir;
-  const std::vector<std::string> r(181, "3.0");
-  std::string text = flaser(r, 1.0) + flaser(r, 2.0);
-  text += "FLASER 181";
-  for (const auto& v : r) text += " " + v;
-  text += " 1e9 1e9 0 1 2 0 3 host 3\n";
-  const auto log = dir.write("far.clf", text);
-  TempDir logdir;
-  const pid_t pid = spawnCli({"map", log.string(), "-o", (dir / "out").string(), "-q"}, logdir / "o.txt");
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  const std::string out = readBytes(logdir / "o.txt");
-  ASSERT_FALSE(WIFSIGNALED(status)) << "killed by signal " << WTERMSIG(status) << "\n" << out;
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << out;
-  EXPECT_NE(out.find("grid"), std::string::npos) << out;
-  EXPECT_NE(out.find("error"), std::string::npos) << out;
-}
-
-// A grid whose dense layers would need more memory than allowed is refused before anything is
-// allocated, with the figure; --max-memory raises the limit. Scans 60 m apart make a grid of about
-// 1300 x 1300 cells (~27 MB at 16 bytes per cell).
-TEST(HostileCli, MapRefusesAGridOverTheMemoryLimitUnlessRaised) {
-  TempDir dir;
-  const std::vector<std::string> r(181, "3.0");
-  std::string text;
-  for (int k = 0; k < 4; ++k) {
-    const double x = k < 2 ? 0.1 * k : 60.0 + 0.1 * k;
-    text += "FLASER 181";
-    for (const auto& v : r) text += " " + v;
-    text += " " + std::to_string(x) + " " + std::to_string(x) + " 0 " + std::to_string(x) + " " + std::to_string(x) +
-            " 0 " + std::to_string(k + 1) + " host " + std::to_string(k + 1) + "\n";
-  }
-  const auto log = dir.write("wide.clf", text);
-  const RunResult refused = runCli({"map", log.string(), "-o", (dir / "small").string(), "-q", "--max-memory", "10"});
-  ASSERT_TRUE(refused.exited(1)) << refused.output;
-  EXPECT_NE(refused.output.find("would need about"), std::string::npos) << refused.output;
-  EXPECT_NE(refused.output.find("over the limit of 10 MB"), std::string::npos) << refused.output;
-  EXPECT_NE(refused.output.find("--max-memory"), std::string::npos) << refused.output;
-  EXPECT_FALSE(fs::exists(dir / "small")) << "nothing may be written after a refusal";
-  const RunResult raised = runCli({"map", log.string(), "-o", (dir / "big").string(), "-q", "--max-memory", "100"});
-  ASSERT_TRUE(raised.exited(0)) << raised.output;
-  EXPECT_TRUE(fs::exists(dir / "big" / "labels.tif"));
-}
-
-bool mainInstallsSignalCleanup() {
-  const std::string main_cpp = readBytes(fs::path(GLASSMAP_SOURCE_DIR) / "tools" / "main.cpp");
-  return main_cpp.find("installSignalCleanup") != std::string::npos;
-}
-
-// Kills `glassmap convert` of a large floorplan while it writes: the target is then absent (or
-// complete), and no temporary is left behind. The kill is sent when the temporary appears.
-TEST(InterruptedCli, ConvertKilledMidWriteLeavesNoPartialOutput) {
-  if (!mainInstallsSignalCleanup()) GTEST_SKIP() << "tools/main.cpp does not call installSignalCleanup() yet";
-  TempDir dir;
-  std::vector<std::array<double, 4>> segs;
-  for (int i = 0; i < 60000; ++i) segs.push_back({0.01 * i, 0.0, 0.01 * i, 1.0 + 0.001 * (i % 100)});
-  const auto in = dir.write("big.geojson", geojsonLines(segs));
-  int interrupted = 0, finished = 0;
-  for (const int sig : {SIGTERM, SIGINT}) {
-    for (const std::string ext : {".gpkg", ".dxf", ".shp", ".geojson"}) {
-      SCOPED_TRACE(std::to_string(sig) + ext);
-      const fs::path outdir = dir / ("out" + std::to_string(sig) + ext.substr(1));
-      fs::create_directories(outdir);
-      const fs::path target = outdir / ("floor" + ext);
-      const pid_t pid = spawnCli({"convert", in.string(), target.string(), "-q"}, dir / "log.txt");
-      // Wait for a temporary (file or folder) to appear, then signal.
-      bool seen = false;
-      int status = 0;
-      for (;;) {
-        if (::waitpid(pid, &status, WNOHANG) == pid) break;
-        if (!temporariesIn(outdir).empty()) {
-          seen = true;
-          ::kill(pid, sig);
-          ::waitpid(pid, &status, 0);
-          break;
-        }
-        std::this_thread::sleep_for(std::chrono::microseconds(200));
-      }
-      if (seen && WIFSIGNALED(status)) {
-        ++interrupted;
-        EXPECT_EQ(WTERMSIG(status), sig);
-      } else {
-        ++finished;
-        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << readBytes(dir / "log.txt");
-      }
-      EXPECT_TRUE(temporariesIn(outdir).empty()) << temporariesIn(outdir).front();
-      if (fs::exists(target)) {
-        // A target present must be complete: it reads back with every segment.
-        EXPECT_EQ(readFloorplan(target).segments.size(), segs.size());
-      }
-    }
-  }
-  std::printf("[ %d runs interrupted mid-write, %d finished before the signal ]\n", interrupted, finished);
-  EXPECT_GT(interrupted, 0) << "no run was caught mid-write: the test did not test anything";
-}
-
-// ---------------------------------------------------------------------------------------------
-// Determinism
-
-void expectSameFiles(const fs::path& a, const fs::path& b, const std::vector<std::string>& names) {
-  for (const auto& n : names) {
-    ASSERT_TRUE(fs::exists(a / n)) << a / n;
-    ASSERT_TRUE(fs::exists(b / n)) << b / n;
-    EXPECT_TRUE(readBytes(a / n) == readBytes(b / n)) << n << " differs between " << a << " and " << b;
-  }
-}
-
-TEST(Determinism, SimulateAndMapAreByteIdenticalAcrossRunsAndThreadCounts) {
-  TempDir dir;
-  const std::string scene = std::string(GLASSMAP_SOURCE_DIR) + "/maps/glass-corridor/scene.yaml";
-  const int cpus = std::min(usableCpus(), 4);
-  const std::vector<std::pair<std::string, int>> runs = {{"a1", 1}, {"b1", 1}, {"cN", cpus}};
-  for (const auto& [name, n] : runs) {
-    const RunResult sim = runCli({"simulate", scene, "-o", (dir / ("sim-" + name)).string(), "--seed", "42",
-                                  "--duration", kSanitized ? "4" : "12", "-q"},
-                                 n);
-    ASSERT_TRUE(sim.exited(0)) << sim.output;
-    const RunResult map = runCli({"map", (dir / ("sim-" + name) / "log.clf").string(), "-o",
-                                  (dir / ("map-" + name)).string(), "-q"},
-                                 n);
-    ASSERT_TRUE(map.exited(0)) << map.output;
-  }
-  const std::vector<std::string> sim_files = {"log.clf", "groundtruth.tum", "outcomes.bin"};
-  const std::vector<std::string> map_files = {"labels.tif", "map.pgm", "map.yaml"};
-  expectSameFiles(dir / "sim-a1", dir / "sim-b1", sim_files);
-  expectSameFiles(dir / "sim-a1", dir / "sim-cN", sim_files);
-  expectSameFiles(dir / "map-a1", dir / "map-b1", map_files);
-  expectSameFiles(dir / "map-a1", dir / "map-cN", map_files);
-  if (cpus < 2) GTEST_SKIP() << "one usable CPU: compared two single-thread runs only";
-}
-
-#endif  // GLASSMAP_CLI
 
 }  // namespace
 }  // namespace glassmap
