@@ -1,0 +1,202 @@
+// Writing floorplans: GDAL vector formats (read back and counted before the rename), shapefile
+// sets, DXF with our header and XDATA.
+#include "glassmap/io/floorplan.hpp"
+
+#include <gdal_priv.h>
+#include <ogr_geometry.h>
+#include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <system_error>
+
+#include "dxf_text.hpp"
+#include "floorplan_detail.hpp"
+#include "gdal_util.hpp"
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
+#include "text_parse.hpp"
+
+namespace glassmap {
+
+namespace fs = std::filesystem;
+using io_detail::GdalErrorCollector;
+using io_detail::lower;
+
+namespace {
+
+void checkSegments(const VectorMap& map) {
+  for (std::size_t i = 0; i < map.segments.size(); ++i) {
+    const MapSegment& s = map.segments[i];
+    if (!s.a.allFinite() || !s.b.allFinite() || !std::isfinite(s.thickness))
+      throw Error("segment " + std::to_string(i) + " has a non-finite coordinate or thickness");
+  }
+}
+
+/// Reads `path` back with the one driver that wrote it and checks that every segment reached the
+/// disk. Some GDAL drivers (GeoJSON, FlatGeobuf) do not check their writes: on a full disk or
+/// past a file-size limit they leave a truncated file and report success.
+void verifyWritten(const fs::path& path, FloorplanFormat format, std::size_t expected) {
+  syncToDisk(path);
+  GdalErrorCollector errors;
+  const std::string driver_name(gdalDriverName(format));
+  const char* drivers[] = {driver_name.c_str(), nullptr};
+  GDALDatasetUniquePtr ds(GDALDataset::Open(path.string().c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, drivers));
+  const std::string why = " (disk full, or a file-size limit?)";
+  if (!ds) throw Error("the file written does not read back" + why + errors.suffix(), path.string());
+  // Counted one by one: a truncated file's header may still promise every feature.
+  std::size_t count = 0;
+  for (OGRLayer* layer : ds->GetLayers()) {
+    layer->ResetReading();
+    while (OGRFeatureUniquePtr f{layer->GetNextFeature()}) ++count;
+  }
+  if (count != expected)
+    throw Error("only " + std::to_string(count) + " of " + std::to_string(expected) +
+                    " segments reached the file" + why + errors.suffix(),
+                path.string());
+}
+
+/// Writes the features of `map` into a new dataset at `target` with GDAL.
+void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat format,
+                   const fs::path& dxf_header) {
+  GdalErrorCollector errors;
+  const std::string driver_name(gdalDriverName(format));
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name.c_str());
+  if (!driver) throw Error("GDAL has no " + driver_name + " driver", target.string());
+  CPLStringList ds_options;
+  if (format == FloorplanFormat::Dxf) ds_options.SetNameValue("HEADER", dxf_header.string().c_str());
+  GDALDatasetUniquePtr ds(driver->Create(target.string().c_str(), 0, 0, 0, GDT_Unknown, ds_options.List()));
+  if (!ds) throw Error("cannot create " + driver_name + " file" + errors.suffix(), target.string());
+
+  OGRSpatialReference srs;
+  const bool with_crs = format == FloorplanFormat::Gpkg || format == FloorplanFormat::Shapefile ||
+                        format == FloorplanFormat::FlatGeobuf;
+  if (with_crs && srs.importFromWkt(std::string(io_detail::kLocalWkt).c_str()) != OGRERR_NONE)
+    throw Error("cannot build the local metric CRS" + errors.suffix());
+  CPLStringList layer_options;
+  if (format == FloorplanFormat::FlatGeobuf) layer_options.SetNameValue("SPATIAL_INDEX", "NO");
+  if (format == FloorplanFormat::GeoJson) {
+    layer_options.SetNameValue("RFC7946", "NO");
+    layer_options.SetNameValue("DESCRIPTION", io_detail::kGeoJsonMarker);  // read back as local metres
+  }
+  if (format == FloorplanFormat::Shapefile) layer_options.SetNameValue("ENCODING", "UTF-8");
+  OGRLayer* layer = ds->CreateLayer(io_detail::kFloorplanLayerName, with_crs ? &srs : nullptr, wkbLineString, layer_options.List());
+  if (!layer) throw Error("cannot create layer" + errors.suffix(), target.string());
+
+  if (format != FloorplanFormat::Dxf) {
+    auto field = [&](const char* name, OGRFieldType type, int width = 0) {
+      OGRFieldDefn def(name, type);
+      if (width) def.SetWidth(width);
+      if (layer->CreateField(&def) != OGRERR_NONE)
+        throw Error(std::string("cannot create field ") + name + errors.suffix(), target.string());
+    };
+    field("material", OFTString, 8);
+    field("thickness", OFTReal);
+    field("pane_angle", OFTReal);
+    field("support", OFTInteger64);
+    field("evidence", OFTReal);
+  }
+  OGRFeatureDefn* defn = layer->GetLayerDefn();
+  // One transaction where the driver has them (GeoPackage): one commit instead of one per feature.
+  const bool in_transaction = ds->StartTransaction(FALSE) == OGRERR_NONE;
+  for (const MapSegment& s : map.segments) {
+    OGRFeatureUniquePtr f(OGRFeature::CreateFeature(defn));
+    if (format == FloorplanFormat::Dxf) {
+      f->SetField("Layer", s.material == Material::Glass ? "GLASS" : "WALL");
+    } else {
+      f->SetField("material", std::string(toString(s.material)).c_str());
+      f->SetField("thickness", s.thickness);
+      f->SetField("pane_angle", s.pane_angle);
+      f->SetField("support", static_cast<GIntBig>(s.support));
+      f->SetField("evidence", s.evidence);
+    }
+    OGRLineString line;
+    line.addPoint(s.a.x(), s.a.y());
+    line.addPoint(s.b.x(), s.b.y());
+    f->SetGeometry(&line);
+    if (layer->CreateFeature(f.get()) != OGRERR_NONE)
+      throw Error("cannot write feature (disk full, or a file-size limit?)" + errors.suffix(), target.string());
+  }
+  if (in_transaction && ds->CommitTransaction() != OGRERR_NONE)
+    throw Error("cannot commit the features" + errors.suffix(), target.string());
+  const std::size_t failures_before_close = errors.failures();
+  ds.reset();  // closes the file: GDAL writes indexes and trailers here
+  if (errors.failures() > failures_before_close)
+    throw Error("cannot finish writing" + errors.suffix(), target.string());
+  if (format != FloorplanFormat::Dxf) verifyWritten(target, format, map.segments.size());
+}
+
+void writeShapefile(const fs::path& target, const VectorMap& map) {
+  // A shapefile is several files: build them in a temporary folder, then move each into place,
+  // the .shp last so that a reader never sees a .shp without its sidecars.
+  const fs::path dir = temporarySibling(target.parent_path() / (target.stem().string() + ".dir"));
+  // Registered before it exists: a signal between creating and registering would leave it behind.
+  const LiveTemporary live_dir(dir, /*is_directory=*/true);  // removed by a SIGINT/SIGTERM handler too
+  std::error_code ec;
+  fs::create_directory(dir, ec);
+  if (ec) throw Error("cannot create temporary folder: " + ec.message(), dir.string());
+  try {
+    try {
+      writeWithGdal(dir / target.filename(), map, FloorplanFormat::Shapefile, {});
+    } catch (const Error& e) {
+      throw Error(e.message(), target.string(), e.line(), e.field());  // the user's path, not ours
+    }
+    std::vector<fs::path> files;
+    for (const auto& entry : fs::directory_iterator(dir)) files.push_back(entry.path());
+    std::sort(files.begin(), files.end(), [](const fs::path& a, const fs::path& b) {
+      return (lower(a.extension().string()) == ".shp") < (lower(b.extension().string()) == ".shp");
+    });
+    for (const fs::path& f : files) {
+      fs::path dest = target.parent_path() / f.filename();
+      fs::rename(f, dest, ec);
+      if (ec) throw Error("cannot move shapefile part into place: " + ec.message(), dest.string());
+    }
+    fs::remove(dir, ec);
+  } catch (...) {
+    fs::remove_all(dir, ec);
+    throw;
+  }
+}
+
+}  // namespace
+
+void writeFloorplan(const fs::path& path, const VectorMap& map) {
+  const FloorplanFormat format = floorplanFormatFromPath(path);
+  checkSegments(map);
+  io_detail::ensureGdalRegistered();
+  switch (format) {
+    case FloorplanFormat::Shapefile:
+      writeShapefile(path, map);
+      return;
+    case FloorplanFormat::Dxf: {
+      // The header template (metres, layers WALL and GLASS) lives in a temporary file beside the
+      // output; the entities get their attributes as XDATA after GDAL has written them.
+      const fs::path header = temporarySibling(path.parent_path() / (path.stem().string() + "-header.dxf"));
+      struct Remove {
+        fs::path p;
+        ~Remove() {
+          std::error_code ec;
+          fs::remove(p, ec);
+        }
+      } remove_header{header};
+      const LiveTemporary live_header(header);
+      io_detail::writeDxfHeaderTemplate(header);
+      writeAtomically(path, [&](const fs::path& tmp) {
+        writeWithGdal(tmp, map, format, header);
+        io_detail::addDxfXData(tmp, map);
+        verifyWritten(tmp, format, map.segments.size());
+      });
+      return;
+    }
+    default:
+      writeAtomically(path, [&](const fs::path& tmp) { writeWithGdal(tmp, map, format, {}); });
+  }
+}
+
+}  // namespace glassmap
