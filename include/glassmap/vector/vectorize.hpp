@@ -49,6 +49,26 @@ struct VectorizeOptions {
   double regularize_angle_deg = 3.0; ///< ... when within this of an axis [deg]; angled glass stays
   bool walls = true;                 ///< fit walls
   bool glass_segments = true;        ///< fit glass
+  // Finer rules of the steps (defaults suit any cell size; units as stated).
+  std::size_t min_region_cells = 3;  ///< region growing: smaller regions are left unassigned [cells]
+  double short_glass_sd_cells = 3.0; ///< a glass piece whose cells spread along it by less than this
+                                     ///< (std dev, about 10 cells of length) takes its direction from
+                                     ///< the angle labels, not the fit [cells]
+  double end_margin_cells = 0.5;     ///< a piece reaches this far past its outermost cell centres [cells]
+  double max_unseen_free_fraction = 0.2;  ///< a gap counts as unseen (bridgeable up to max_bridge) when
+                                          ///< at most this share of it was seen free [-]
+  double face_min_overlap = 0.5;     ///< wall faces merge when they overlap over this share of the
+                                     ///< shorter one [-] ...
+  double face_max_free_fraction = 1.0 / 3.0;  ///< ... and at most this share of the band between
+                                              ///< them is free space [-]
+  double side_crowding_cells = 2.0;  ///< glass: look this far across the line for more glass [cells] ...
+  double max_side_crowding = 0.5;    ///< ... a piece with more of its cells crowded is a strip cut out
+                                     ///< of a blob, not a pane, and is dropped [-]
+  double axis_window_deg = 1.0;      ///< walls within this of a direction count for it as the
+                                     ///< dominant axis [deg]
+  double corner_min_angle_deg = 30.0;  ///< ends snap only to walls crossing at least this steeply [deg]
+  double one_sided_max_ratio = 0.25; ///< a wall is one-sided when its less free side has at most this
+                                     ///< share of its freer side's free samples [-]
 
   static MaterialOptions glassDefaults();
   static MaterialOptions wallDefaults();

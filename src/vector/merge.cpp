@@ -1,0 +1,173 @@
+// Step 3 of vectorize(): collinear neighbours merge across small gaps when one line explains both
+// at a lower BIC; the two faces of a wall seen from both sides merge into its centre line.
+#include "piece.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "box_pairs.hpp"
+#include "glassmap/core/angles.hpp"
+
+namespace glassmap::vector::detail {
+
+// Interval of q's extent projected on p's line.
+std::pair<double, double> projectedExtent(const Piece& p, const Piece& q) {
+  const double u = p.d.dot(q.a() - p.c), v = p.d.dot(q.b() - p.c);
+  return {std::min(u, v), std::max(u, v)};
+}
+
+// Calls f(i, j), i < j, in increasing order, for the alive pieces whose bounding boxes, grown by
+// margin, overlap (CGAL's box intersection: large maps do not cost a full pairwise pass).
+template <typename F>
+void forNearbyPairs(const std::vector<Piece>& pieces, double margin, F&& f) {
+  std::vector<Eigen::AlignedBox2d> boxes(pieces.size());  // empty for dead pieces
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    if (!pieces[i].alive) continue;
+    boxes[i].extend(pieces[i].a());
+    boxes[i].extend(pieces[i].b());
+    boxes[i].min() -= Vec2::Constant(margin);
+    boxes[i].max() += Vec2::Constant(margin);
+  }
+  for (const auto& [i, j] : overlappingPairs(boxes)) f(i, j);
+}
+
+// True when no stretch of the gap [t, t + len] along p's line was seen free: at most
+// max_unseen_free_fraction of its samples have free space on the line and on both sides (a door or
+// an opening is seen free; a wall that was hit sparsely, or not seen, is not).
+bool unseenGap(const Piece& p, double t, double len, const Context& ctx) {
+  const double res = ctx.grid.resolution;
+  const Vec2 n = p.normal();
+  int samples = 0, free = 0;
+  for (double s = 0.5 * res; s < len; s += res) {
+    const Vec2 q = p.c + (t + s) * p.d;
+    ++samples;
+    if (ctx.isFree(q) && ctx.isFree(q + res * n) && ctx.isFree(q - res * n)) ++free;
+  }
+  return free <= ctx.opt.max_unseen_free_fraction * samples;
+}
+
+// Greedy merging of collinear neighbours across gaps up to merge_gap, each merge accepted only when
+// one line explains both cell sets at a lower BIC than two.
+void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material material,
+                    const MaterialOptions& mo, const Context& ctx) {
+  const double cos_max = std::cos(deg2rad(mo.merge_angle_deg));
+  for (bool changed = true; changed;) {
+    changed = false;
+    struct Candidate {
+      double gain;
+      std::size_t i, j;
+    };
+    std::vector<Candidate> candidates;
+    forNearbyPairs(pieces, 0.5 * std::max(mo.merge_gap, mo.max_bridge) + mo.merge_offset, [&](std::size_t i, std::size_t j) {
+      const Piece& p = pieces[i];
+      const Piece& q = pieces[j];
+      {
+        if (std::abs(p.d.dot(q.d)) < cos_max) return;
+        const auto [u0, u1] = projectedExtent(p, q);
+        const double gap = std::max(u0 - p.t1, p.t0 - u1);
+        if (gap > mo.max_bridge || (gap > mo.merge_gap && !unseenGap(p, u0 > p.t1 ? p.t1 : u1, gap, ctx))) return;
+        const Vec2 np = p.normal(), nq = q.normal();
+        const double off = std::max({std::abs(np.dot(q.a() - p.c)), std::abs(np.dot(q.b() - p.c)),
+                                     std::abs(nq.dot(p.a() - q.c)), std::abs(nq.dot(p.b() - q.c))});
+        if (off > mo.merge_offset) return;
+        Moments u = p.moments;
+        u += q.moments;
+        const double gain = ctx.bic(p.moments.rss() + q.moments.rss(), u.n, 2) - ctx.bic(u.rss(), u.n, 1);
+        if (gain > 0) candidates.push_back({gain, i, j});
+      }
+    });
+    std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+      return a.gain > b.gain || (a.gain == b.gain && std::make_pair(a.i, a.j) < std::make_pair(b.i, b.j));
+    });
+    std::vector<bool> touched(pieces.size(), false);
+    for (const Candidate& c : candidates) {
+      if (touched[c.i] || touched[c.j]) continue;
+      touched[c.i] = touched[c.j] = true;
+      Piece& p = pieces[c.i];
+      Piece& q = pieces[c.j];
+      p.ids.insert(p.ids.end(), q.ids.begin(), q.ids.end());
+      const bool faced = p.faces_merged || q.faces_merged;
+      const double thick = std::max(p.thickness, q.thickness);
+      refit(p, cloud, material, ctx);
+      if (faced) p.thickness = thick, p.faces_merged = true;
+      q.alive = false;
+      ++ctx.stats.merges;
+      changed = true;
+    }
+  }
+}
+
+// Wall faces: two near-parallel wall pieces less than max_wall_thickness apart, overlapping over
+// half the shorter one, with no free space between them, become one centre line.
+void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Context& ctx) {
+  const double cos_max = std::cos(deg2rad(ctx.opt.wall.merge_angle_deg));
+  for (bool changed = true; changed;) {
+    changed = false;
+    struct Candidate {
+      double sep;
+      std::size_t i, j;
+    };
+    std::vector<Candidate> candidates;
+    forNearbyPairs(pieces, ctx.opt.max_wall_thickness, [&](std::size_t i, std::size_t j) {
+      const Piece& p = pieces[i];
+      const Piece& q = pieces[j];
+      {
+        if (std::abs(p.d.dot(q.d)) < cos_max) return;
+        const double sep = std::abs(p.normal().dot(q.c - p.c));
+        if (sep > ctx.opt.max_wall_thickness) return;
+        const auto [u0, u1] = projectedExtent(p, q);
+        const double overlap = std::min(u1, p.t1) - std::max(u0, p.t0);
+        if (overlap < ctx.opt.face_min_overlap * std::min(p.length(), q.length())) return;
+        // Free cells between the faces: a corridor or a gap, not one wall.
+        const double lo = std::max(u0, p.t0), hi = std::min(u1, p.t1);
+        int free = 0;
+        constexpr int kSamples = 9;
+        for (int k = 0; k < kSamples; ++k) {
+          const double t = lo + (hi - lo) * (k + 0.5) / kSamples;
+          const Vec2 on_p = p.c + t * p.d;
+          const Vec2 foot = q.c + q.d * q.d.dot(on_p - q.c);
+          if (ctx.isFree(0.5 * (on_p + foot))) ++free;
+        }
+        if (free > ctx.opt.face_max_free_fraction * kSamples) return;
+        candidates.push_back({sep, i, j});
+      }
+    });
+    std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+      return a.sep < b.sep || (a.sep == b.sep && std::make_pair(a.i, a.j) < std::make_pair(b.i, b.j));
+    });
+    std::vector<bool> touched(pieces.size(), false);
+    for (const Candidate& c : candidates) {
+      if (touched[c.i] || touched[c.j]) continue;
+      touched[c.i] = touched[c.j] = true;
+      Piece& p = pieces[c.i];
+      Piece& q = pieces[c.j];
+      Vec2 dq = q.d;
+      if (dq.dot(p.d) < 0) dq = -dq;
+      const Vec2 d = (p.length() * p.d + q.length() * dq).normalized();
+      const Vec2 n(-d.y(), d.x());
+      // Midline between the two face lines, equally weighted whatever their cell counts.
+      const double off = 0.5 * (n.dot(p.c) + n.dot(q.c));
+      const double t_lo = std::min({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
+      const double t_hi = std::max({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
+      const double sep = std::abs(n.dot(q.c - p.c));
+      p.ids.insert(p.ids.end(), q.ids.begin(), q.ids.end());
+      p.moments += q.moments;
+      p.c = off * n;
+      p.d = d;
+      p.t0 = t_lo;
+      p.t1 = t_hi;
+      p.thickness = std::min(ctx.opt.max_wall_thickness, std::max(p.thickness, sep + cloud.resolution));
+      p.faces_merged = true;
+      q.alive = false;
+      ++ctx.stats.face_merges;
+      changed = true;
+    }
+  }
+}
+
+void compact(std::vector<Piece>& pieces) {
+  pieces.erase(std::remove_if(pieces.begin(), pieces.end(), [](const Piece& p) { return !p.alive; }), pieces.end());
+}
+
+}  // namespace glassmap::vector::detail

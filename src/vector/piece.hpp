@@ -1,0 +1,75 @@
+#pragma once
+// Private to vector/: the segment under construction (Piece), the shared context of one run, and
+// the steps of vectorize(), one file each:
+//   cloud.cpp    cells of one material -> a point cloud with normals and seed scores
+//   pieces.cpp   regions -> pieces: line fits, cuts at gaps, BIC splits
+//   merge.cpp    collinear merges across gaps, wall faces -> centre lines
+//   filter.cpp   pieces the evidence does not support are dropped
+//   cleanup.cpp  one-sided walls onto their face, dominant axes, corners
+//   vectorize.cpp  the order of the steps, and pieces -> MapSegments
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "fitting.hpp"
+#include "glassmap/vector/vectorize.hpp"
+
+namespace glassmap::vector::detail {
+
+/// A segment under construction: its cells, line and extent along the line.
+struct Piece {
+  std::vector<std::uint32_t> ids;  ///< points of the material's cloud
+  Moments moments;
+  Vec2 c = Vec2::Zero();   ///< a point of the line
+  Vec2 d = Vec2::UnitX();  ///< unit direction
+  double t0 = 0, t1 = 0;   ///< extent along d from c [m]
+  double thickness = 0;    ///< measured or merged thickness [m]
+  bool faces_merged = false;
+  bool alive = true;
+
+  Vec2 a() const { return c + t0 * d; }
+  Vec2 b() const { return c + t1 * d; }
+  double length() const { return t1 - t0; }
+  Vec2 normal() const { return {-d.y(), d.x()}; }
+};
+
+/// What every step of one run reads: the grid, the options, the statistics being filled.
+struct Context {
+  const LabelGrid& grid;
+  const VectorizeOptions& opt;
+  VectorizeStats& stats;
+  double sigma0_sq;  ///< BIC noise floor [m^2]
+  /// Bayesian information criterion of `segments` lines explaining n cells with residual rss.
+  double bic(double rss, double n, double segments) const {
+    return n * std::log(std::max(rss / n, sigma0_sq)) + segments * opt.params_per_segment * std::log(n);
+  }
+  /// True when the cell under p is free space.
+  bool isFree(const Vec2& p) const {
+    const int x = static_cast<int>(std::floor((p.x() - grid.origin.x()) / grid.resolution));
+    const int y = static_cast<int>(std::floor((p.y() - grid.origin.y()) / grid.resolution));
+    return x >= 0 && y >= 0 && x < grid.width && y < grid.height && grid.code(x, y) == kCodeEmpty;
+  }
+};
+
+// cloud.cpp
+CellCloud makeCloud(const LabelGrid& grid, Material material, const MaterialOptions& mo);
+// pieces.cpp
+void refit(Piece& p, const CellCloud& cloud, Material material, const Context& ctx);
+void piecesOfRegion(const std::vector<std::uint32_t>& region, const CellCloud& cloud, Material material,
+                    const MaterialOptions& mo, const Context& ctx, std::vector<Piece>& out);
+// merge.cpp
+void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material material, const MaterialOptions& mo,
+                    const Context& ctx);
+void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Context& ctx);
+void compact(std::vector<Piece>& pieces);
+// filter.cpp
+void filterPieces(std::vector<Piece>& pieces, Material material, const MaterialOptions& mo, const CellCloud& cloud,
+                  const Context& ctx);
+// cleanup.cpp
+void alignOneSidedWalls(std::vector<Piece>& walls, const CellCloud& cloud, const Context& ctx);
+double dominantAxis(const std::vector<Piece>& walls, const Context& ctx);
+void regularize(std::vector<Piece>& pieces, double axis, const Context& ctx);
+void snapCorners(std::vector<Piece>& glass, std::vector<Piece>& walls, const Context& ctx);
+
+}  // namespace glassmap::vector::detail
