@@ -16,7 +16,7 @@ CellCloud makeCloud(const LabelGrid& grid, Material material, const MaterialOpti
   cloud.width = grid.width;
   cloud.height = grid.height;
   cloud.resolution = grid.resolution;
-  cloud.origin_cells = grid.origin / grid.resolution;
+  cloud.origin_cells = Vec2::Zero();  // the run's frame: the grid's lower-left corner (see Context)
   cloud.index.assign(grid.cells(), -1);
   for (int y = 0; y < grid.height; ++y)
     for (int x = 0; x < grid.width; ++x) {
@@ -24,7 +24,7 @@ CellCloud makeCloud(const LabelGrid& grid, Material material, const MaterialOpti
       if (material == Material::Glass ? !isGlassCode(code) : !isWallCode(code)) continue;
       const std::size_t li = static_cast<std::size_t>(y) * grid.width + x;
       cloud.index[li] = static_cast<std::int32_t>(cloud.points.size());
-      cloud.points.push_back(grid.center(x, y));
+      cloud.points.emplace_back((x + 0.5) * grid.resolution, (y + 0.5) * grid.resolution);
       cloud.cell.push_back(static_cast<std::int32_t>(li));
     }
   const std::size_t n = cloud.points.size();

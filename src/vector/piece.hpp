@@ -35,6 +35,9 @@ struct Piece {
 };
 
 /// What every step of one run reads: the grid, the options, the statistics being filled.
+/// Every step works in the grid's own frame (origin at its lower-left corner): the result does not
+/// depend on where the map frame puts the grid (UTM coordinates lose nothing). vectorize() moves
+/// the segments back into the map frame at the end.
 struct Context {
   const LabelGrid& grid;
   const VectorizeOptions& opt;
@@ -44,10 +47,10 @@ struct Context {
   double bic(double rss, double n, double segments) const {
     return n * std::log(std::max(rss / n, sigma0_sq)) + segments * opt.params_per_segment * std::log(n);
   }
-  /// True when the cell under p is free space.
+  /// True when the cell under p (grid frame) is free space.
   bool isFree(const Vec2& p) const {
-    const int x = static_cast<int>(std::floor((p.x() - grid.origin.x()) / grid.resolution));
-    const int y = static_cast<int>(std::floor((p.y() - grid.origin.y()) / grid.resolution));
+    const int x = static_cast<int>(std::floor(p.x() / grid.resolution));
+    const int y = static_cast<int>(std::floor(p.y() / grid.resolution));
     return x >= 0 && y >= 0 && x < grid.width && y < grid.height && grid.code(x, y) == kCodeEmpty;
   }
 };

@@ -125,6 +125,10 @@ VectorizeResult vectorize(const LabelGrid& grid, const VectorizeOptions& options
     result.map.segments.push_back(toSegment(p, Material::Glass, glass_cloud, grid, options.glass));
   for (const Piece& p : walls)
     result.map.segments.push_back(toSegment(p, Material::Wall, wall_cloud, grid, options.wall));
+  for (MapSegment& s : result.map.segments) {  // grid frame -> map frame
+    s.a += grid.origin;
+    s.b += grid.origin;
+  }
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -141,6 +141,23 @@ TEST(Pipeline, MapFilesReadBackAsTheResult) {
   fs::remove_all(dir);
 }
 
+TEST(Pipeline, ResultsDoNotDependOnWhereTheFrameOriginLies) {
+  // The same log in UTM-like coordinates (and farther) maps to the same cells and segments.
+  const MapResult& near = defaultMap();
+  for (const Vec2& offset : {Vec2(500000.0, 5400000.0), Vec2(257000.0, 9857000.0), Vec2(-3e7, 2e7)}) {
+    LaserLog far = corridor().run.log;
+    for (LaserScan& s : far.scans) s.laser_pose.t += offset;
+    const MapResult r = mapLog(far);
+    EXPECT_EQ(r.evidence.label, near.evidence.label) << offset.transpose();
+    EXPECT_LT((r.evidence.geometry.origin - offset - near.evidence.geometry.origin).norm(), 1e-6);
+    ASSERT_EQ(r.floorplan.map.segments.size(), near.floorplan.map.segments.size()) << offset.transpose();
+    for (std::size_t i = 0; i < near.floorplan.map.segments.size(); ++i) {
+      EXPECT_LT((r.floorplan.map.segments[i].a - offset - near.floorplan.map.segments[i].a).norm(), 1e-3) << offset.transpose() << " segment " << i;
+      EXPECT_LT((r.floorplan.map.segments[i].b - offset - near.floorplan.map.segments[i].b).norm(), 1e-3);
+    }
+  }
+}
+
 TEST(Pipeline, LocalizesALogAgainstTheFloorplan) {
   const Scene& s = corridor();
   LocalizeOptions o;
