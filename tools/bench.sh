@@ -8,4 +8,4 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 py=python3
 # Charts need matplotlib (Debian python3-matplotlib); a pyenv python3 on PATH may lack it.
 if ! "$py" -c 'import matplotlib, yaml' 2>/dev/null && [ -x /usr/bin/python3 ]; then py=/usr/bin/python3; fi
-exec "$py" "$here/bench/sweep.py" "$@"
+exec "$py" "$here/bench/sweep" "$@"

@@ -3,6 +3,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.hpp"
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
 #include "glassmap/eval/trajectory.hpp"
 #include "glassmap/io/tum.hpp"
 
@@ -10,7 +12,7 @@ namespace glassmap {
 namespace {
 
 struct EvalTrajArgs {
-  std::string truth, estimate, json;
+  std::string truth, estimate, json, errors;
   eval::TrajectoryEvalOptions options;
   bool quiet = false;
 };
@@ -32,6 +34,17 @@ void run(const EvalTrajArgs& a) {
                                 {"matched", r.matched},
                                 {"unmatched", r.unmatched}};
   if (!a.json.empty()) cli::writeJsonFile(a.json, stats);
+  if (!a.errors.empty()) {
+    writeAtomically(a.errors, [&](const std::filesystem::path& tmp) {
+      std::FILE* f = std::fopen(tmp.c_str(), "w");
+      if (f == nullptr) throw Error("cannot write", a.errors);
+      std::fprintf(f, "t,position_error_m,heading_error_deg\n");
+      for (std::size_t i = 0; i < r.times.size(); ++i)
+        std::fprintf(f, "%.6f,%.6f,%.4f\n", r.times[i], r.position_errors[i], r.heading_errors_deg[i]);
+      const bool ok = std::ferror(f) == 0;
+      if (std::fclose(f) != 0 || !ok) throw Error("cannot write", a.errors);
+    });
+  }
   if (!a.quiet) {
     std::printf("APE w.r.t. translation part (m), %zu poses matched, %zu unmatched\n", r.matched, r.unmatched);
     std::printf("  %-16s %10.4f\n", "max", r.max);
@@ -57,6 +70,8 @@ const cli::Registrar reg(72, [](CLI::App& app) {
   sub->add_option("estimate", a->estimate, "estimated trajectory (TUM)")->required()->check(CLI::ExistingFile);
   sub->add_option("--truth", a->truth, "ground-truth trajectory (TUM)")->required()->check(CLI::ExistingFile);
   sub->add_option("--json", a->json, "write the statistics as JSON (stats.json, evo's keys)");
+  sub->add_option("--errors", a->errors,
+                  "also write the error of every matched estimate as CSV: t, position_error_m, heading_error_deg");
   sub->add_option("--max-time-diff", a->options.max_time_diff, "timestamp association tolerance [s]")
       ->capture_default_str();
   sub->add_option("--good-error", a->options.good_error, "threshold of the time fraction [m]")->capture_default_str();

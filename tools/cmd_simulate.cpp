@@ -105,6 +105,14 @@ void run(const SimulateArgs& args) {
                                             "person", "max_range"}},
                          {"kidnap", nullptr},
                          {"seconds", seconds}};
+  if (!result.ground_truth.empty()) {
+    // The true first laser pose, and the same as `glassmap localize --init` takes it.
+    const Pose2& p0 = result.ground_truth.front().pose;
+    char init[128];
+    std::snprintf(init, sizeof init, "%.17g,%.17g,%.17g", p0.x(), p0.y(), p0.theta);
+    meta["start_pose"] = poseJson(p0);
+    meta["start_init"] = init;
+  }
   if (result.kidnap) {
     const sim::KidnapEvent& k = *result.kidnap;
     meta["kidnap"] = {{"time", k.time},

@@ -78,6 +78,14 @@ def main(out):
             bad.append(f"kidnap: jumped {r['jump_m']} m, further than {r['distance']} m along the path")
         if float(r["error_before_max"]) >= sweep.SUCCESS_ATE_M:
             bad.append(f"kidnap: lost before the kidnapping in {r}")
+    # The report's kidnapping table is the CSV's: every success rate appears in its model's row.
+    results = (out / "RESULTS.md").read_text().split("## Kidnapping", 1)
+    kid_rows = results[1].split("\n## ", 1)[0].splitlines() if len(results) == 2 else []
+    for r in csv.DictReader(open(out / "kidnap_summary.csv")):
+        row = next((line for line in kid_rows if line.startswith(f"| {r['model']} |")), None)
+        cell = f"{float(r['success_rate']):.2f}"
+        if row is None or cell not in row:
+            bad.append(f"RESULTS.md kidnapping row of {r['model']} lacks {cell} at {r['distance']} m: {row}")
     spread = [float(r["spread_m"]) for r in csv.DictReader(open(out / "fig8.csv"))]
     if spread and not all(s >= 0 for s in spread):
         bad.append("fig8: negative particle spread")
