@@ -75,7 +75,7 @@ def main():
             v = results[(scene, col)]
             mean = sum(r for r, _ in v) / len(v)
             worst = max(m for _, m in v)
-            cells.append(f"{mean:.4f} / {worst:.3f}" + (" (lost)" if mean > LOST_M else ""))
+            cells.append(f"{mean:.2f} / {worst:.1f} (lost)" if mean > LOST_M else f"{mean:.4f} / {worst:.3f}")
         print(f"| {scene} | " + " | ".join(cells) + " |")
 
 
