@@ -23,6 +23,5 @@ inline std::string missingSharedData(const std::filesystem::path& path) {
 }  // namespace glassmap::test
 
 /// Skips the calling test (GTEST_SKIP returns from it) when `path` does not exist.
-#define GLASSMAP_REQUIRE_SHARED_DATA(path)                              \
-  if (!std::filesystem::exists(path))                                   \
-  GTEST_SKIP() << ::glassmap::test::missingSharedData(path)
+#define GLASSMAP_REQUIRE_SHARED_DATA(path) \
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << ::glassmap::test::missingSharedData(path)

@@ -27,8 +27,7 @@ Registrar::Registrar(int order, Register fn) { registry().emplace_back(order, st
 
 void registerAll(CLI::App& app) {
   auto& verbs = registry();
-  std::stable_sort(verbs.begin(), verbs.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::stable_sort(verbs.begin(), verbs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   for (auto& [order, fn] : verbs) fn(app);
 }
 

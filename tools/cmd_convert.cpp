@@ -23,23 +23,24 @@ void run(const ConvertArgs& args) {
   writeFloorplan(args.out, map);
   if (args.quiet) return;
   const Eigen::AlignedBox2d b = map.bounds();
-  std::printf("read %s: %zu segments (%zu wall, %zu glass), x %.3f .. %.3f m, y %.3f .. %.3f m\n",
-              args.in.c_str(), map.segments.size(), map.count(Material::Wall), map.count(Material::Glass),
-              b.min().x(), b.max().x(), b.min().y(), b.max().y());
+  std::printf("read %s: %zu segments (%zu wall, %zu glass), x %.3f .. %.3f m, y %.3f .. %.3f m\n", args.in.c_str(),
+              map.segments.size(), map.count(Material::Wall), map.count(Material::Glass), b.min().x(), b.max().x(),
+              b.min().y(), b.max().y());
   std::printf("wrote %s (%s)\n", args.out.c_str(), std::string(gdalDriverName(format)).c_str());
 }
 
 const cli::Registrar reg(20, [](CLI::App& app) {
   auto args = std::make_shared<ConvertArgs>();
-  CLI::App* sub = app.add_subcommand(
-      "convert",
-      "Convert a floorplan of wall and glass line segments between vector formats. IN is any OGR "
-      "line source (GeoJSON, GPKG, Shapefile, FlatGeobuf, DXF, ...): material from the 'material' "
-      "field (wall/glass) or, for DXF, from the layer name (containing GLASS = glass); thickness "
-      "from the 'thickness' field [m], default 0.1; coordinates scaled to metres from the file's units. OUT's extension picks the format: .gpkg "
-      "(local metric CRS), .geojson/.json (local metres, no CRS), .shp (+ .shx .dbf .prj .cpg), "
-      ".fgb, .dxf (layers WALL and GLASS, units metres). The output is written to a temporary "
-      "name and renamed, so a failed run leaves no partial file.");
+  CLI::App* sub =
+      app.add_subcommand("convert",
+                         "Convert a floorplan of wall and glass line segments between vector formats. IN is any OGR "
+                         "line source (GeoJSON, GPKG, Shapefile, FlatGeobuf, DXF, ...): material from the 'material' "
+                         "field (wall/glass) or, for DXF, from the layer name (containing GLASS = glass); thickness "
+                         "from the 'thickness' field [m], default 0.1; coordinates scaled to metres from the file's "
+                         "units. OUT's extension picks the format: .gpkg "
+                         "(local metric CRS), .geojson/.json (local metres, no CRS), .shp (+ .shx .dbf .prj .cpg), "
+                         ".fgb, .dxf (layers WALL and GLASS, units metres). The output is written to a temporary "
+                         "name and renamed, so a failed run leaves no partial file.");
   sub->add_option("in", args->in, "input floorplan")->required()->check(CLI::ExistingFile);
   sub->add_option("out", args->out, "output floorplan; format from the extension")->required();
   sub->add_option("--units,--unit", args->units,

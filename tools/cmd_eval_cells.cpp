@@ -6,8 +6,8 @@
 
 #include "cli_common.hpp"
 #include "glassmap/core/error.hpp"
-#include "glassmap/eval/cells.hpp"
 #include "glassmap/core/labels.hpp"
+#include "glassmap/eval/cells.hpp"
 #include "glassmap/io/floorplan.hpp"
 #include "glassmap/io/labels_raster.hpp"
 
@@ -40,21 +40,24 @@ void run(const EvalCellsArgs& args) {
   for (std::size_t i = 0; i < labels.size(); ++i) labels[i] = static_cast<std::uint8_t>(codeToLabel(raster.codes[i]));
   const eval::CellEvalResult r = eval::evaluateCells(truth, g, labels, kDefaultBins, args.options);
 
-  const nlohmann::json j = {
-      {"truth", args.truth},
-      {"labels", args.labels},
-      {"tolerance_cells", r.tolerance_cells},
-      {"table_i",
-       {{"found", r.found}, {"false_positives", r.false_positives}, {"exact_found", r.exact_found},
-        {"found_with_displacement", r.found_displaced}, {"not_found", r.not_found},
-        {"ground_truth", r.ground_truth}, {"paper_recall", r.paper_recall},
-        {"paper_precision", r.paper_precision}}},
-      {"predicted_glass_cells", r.predicted},
-      {"truth_outside_map", r.truth_outside},
-      {"exact", scoresJson(r.exact)},
-      {"tolerant", scoresJson(r.tolerant)},
-      {"mean_angle_error_deg", r.mean_angle_error_deg},
-      {"angle_cells", r.angle_cells}};
+  const nlohmann::json j = {{"truth", args.truth},
+                            {"labels", args.labels},
+                            {"tolerance_cells", r.tolerance_cells},
+                            {"table_i",
+                             {{"found", r.found},
+                              {"false_positives", r.false_positives},
+                              {"exact_found", r.exact_found},
+                              {"found_with_displacement", r.found_displaced},
+                              {"not_found", r.not_found},
+                              {"ground_truth", r.ground_truth},
+                              {"paper_recall", r.paper_recall},
+                              {"paper_precision", r.paper_precision}}},
+                            {"predicted_glass_cells", r.predicted},
+                            {"truth_outside_map", r.truth_outside},
+                            {"exact", scoresJson(r.exact)},
+                            {"tolerant", scoresJson(r.tolerant)},
+                            {"mean_angle_error_deg", r.mean_angle_error_deg},
+                            {"angle_cells", r.angle_cells}};
   if (!args.json.empty()) cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
   std::cout << j.dump(2) << "\n\n";
@@ -75,13 +78,17 @@ void run(const EvalCellsArgs& args) {
 const cli::Registrar reg(70, [](CLI::App& app) {
   auto args = std::make_shared<EvalCellsArgs>();
   CLI::App& eval = cli::verb(app, "eval", "Score maps and trajectories against ground truth.");
-  CLI::App* cmd = eval.add_subcommand("cells", "Score glass cells of a label GeoTIFF against a floorplan (paper Table I).");
+  CLI::App* cmd =
+      eval.add_subcommand("cells", "Score glass cells of a label GeoTIFF against a floorplan (paper Table I).");
   cmd->add_option("--truth", args->truth, "true floorplan (GeoJSON, GPKG, DXF, Shapefile) with glass segments")
-      ->required()->check(CLI::ExistingFile);
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("--labels", args->labels, "label GeoTIFF written by 'glassmap map' (DIR/labels.tif)")
-      ->required()->check(CLI::ExistingFile);
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");
-  cmd->add_option("--tolerance", args->options.tolerance_cells, "displacement tolerance [cells]")->capture_default_str();
+  cmd->add_option("--tolerance", args->options.tolerance_cells, "displacement tolerance [cells]")
+      ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing (use with --json)");
   cmd->callback([args] { run(*args); });
 });

@@ -30,7 +30,8 @@ const cli::Registrar reg(55, [](CLI::App& app) {
       "Convert a floorplan between formats, chosen by extension: .gpkg (local metric CRS), .geojson, .shp,\n"
       ".fgb, .dxf (layers WALL and GLASS, metres), .svg, .png, .pdf (to scale, 1:100 or smaller).");
   cmd->add_option("input", args->in, "floorplan (any OGR vector source: GPKG, GeoJSON, DXF, Shapefile, FlatGeobuf)")
-      ->required()->check(CLI::ExistingFile);
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("output", args->out, "output file")->required();
   cli::addUnitsOption(*cmd, args->units);
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing");

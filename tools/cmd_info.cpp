@@ -85,8 +85,9 @@ void run(const InfoArgs& args) {
   }
   row("scans", scans);
   if (s.scans > 0) {
-    row("beams per scan", s.beams_min == s.beams_max ? std::to_string(s.beams_min)
-                                                     : std::to_string(s.beams_min) + " .. " + std::to_string(s.beams_max));
+    row("beams per scan", s.beams_min == s.beams_max
+                              ? std::to_string(s.beams_min)
+                              : std::to_string(s.beams_min) + " .. " + std::to_string(s.beams_max));
     row("field of view", range(rad2deg(s.fov_min), rad2deg(s.fov_max), "%.2f") + " deg");
     row("angular resolution", range(rad2deg(s.step_min), rad2deg(s.step_max), "%.3f") + " deg");
     std::snprintf(buf, sizeof buf, " m (longest return %.2f m, %zu max-range readings)", s.longest_return,
@@ -94,8 +95,9 @@ void run(const InfoArgs& args) {
     row("max range", range(s.max_range_min, s.max_range_max, "%.2f") + buf);
   }
   std::snprintf(buf, sizeof buf, "%.1f s (%.3f .. %.3f)%s", s.duration(), s.t_first, s.t_last,
-                s.time_reversals ? (", " + std::to_string(s.time_reversals) + " scans stamped earlier than the one before").c_str()
-                                 : "");
+                s.time_reversals
+                    ? (", " + std::to_string(s.time_reversals) + " scans stamped earlier than the one before").c_str()
+                    : "");
   row("duration", buf);
   std::snprintf(buf, sizeof buf, "%.1f m (laser poses); odometry %.1f m", s.distance, s.odometry_distance);
   row("distance travelled", buf);

@@ -1,7 +1,7 @@
 // glassmap localize --map FLOORPLAN LOG -o EST.tum: options, one pipeline::localizeLog call, the files.
-#include <filesystem>
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -66,8 +66,8 @@ void run(const LocalizeArgs& a) {
     box.extend(box.max() + Vec2::Constant(slack));
     if (!box.contains(opt.init->t)) {
       char buf[200];
-      std::snprintf(buf, sizeof buf, "(%.2f, %.2f) lies outside the map's extent x %.2f .. %.2f, y %.2f .. %.2f m", opt.init->x(),
-                    opt.init->y(), box.min().x() + slack, box.max().x() - slack, box.min().y() + slack,
+      std::snprintf(buf, sizeof buf, "(%.2f, %.2f) lies outside the map's extent x %.2f .. %.2f, y %.2f .. %.2f m",
+                    opt.init->x(), opt.init->y(), box.min().x() + slack, box.max().x() - slack, box.min().y() + slack,
                     box.max().y() - slack);
       throw Error(std::string("the initial pose ") + buf + ": wrong units (see --units) or another frame?", a.map, 0,
                   "init");
@@ -101,8 +101,7 @@ void run(const LocalizeArgs& a) {
                                   {"log_seconds", r.log_duration},
                                   {"real_time_factor", r.realTimeFactor()},
                                   {"seed", a.seed}};
-  if (!a.json.empty())
-    cli::writeJsonFile(a.json, summary);
+  if (!a.json.empty()) cli::writeJsonFile(a.json, summary);
   if (!a.quiet) {
     std::printf("%-18s %12s\n", "model", result.model.c_str());
     std::printf("%-18s %12zu\n", "scans", r.scans);
@@ -124,7 +123,9 @@ const cli::Registrar reg(60, [](CLI::App& app) {
       "a DXF with a GLASS layer included). Uses the log's odometry and ranges only, never its laser\n"
       "poses; writes one T_map_laser estimate per scan as TUM.");
   sub->add_option("log", a->log, "CARMEN log (.clf, .log, .gz)")->required()->check(CLI::ExistingFile);
-  sub->add_option("--map", a->map, "floorplan: GeoJSON, GPKG, DXF, Shapefile, ...")->required()->check(CLI::ExistingFile);
+  sub->add_option("--map", a->map, "floorplan: GeoJSON, GPKG, DXF, Shapefile, ...")
+      ->required()
+      ->check(CLI::ExistingFile);
   sub->add_option("-o,--output", a->out, "estimated trajectory (TUM)")->required();
   sub->add_option("--model", a->model, "sensor model")
       ->check(CLI::IsMember({"glass", "glass-paper", "beam", "field"}))

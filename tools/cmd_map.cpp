@@ -43,23 +43,34 @@ nlohmann::json optionsJson(const MapArgs& a) {
           {"no_return_range", o.beams.no_return_range},
           {"miss_margin", o.beams.miss_margin},
           {"direct",
-           {{"sigmoid_margin", d.sigmoid_margin}, {"direct_sigma_deg", d.direct_sigma_deg},
-            {"direct_peak", d.direct_peak}, {"lobe_floor", d.lobe_floor}, {"p_hit_occ", d.p_hit_occ},
-            {"p_hit_emp", d.p_hit_emp}, {"occ_hit_floor", d.occ_hit_floor}, {"prior_glass", d.prior_glass},
-            {"prior_occupied", d.prior_occupied}, {"min_glass_hits", d.min_glass_hits},
+           {{"sigmoid_margin", d.sigmoid_margin},
+            {"direct_sigma_deg", d.direct_sigma_deg},
+            {"direct_peak", d.direct_peak},
+            {"lobe_floor", d.lobe_floor},
+            {"p_hit_occ", d.p_hit_occ},
+            {"p_hit_emp", d.p_hit_emp},
+            {"occ_hit_floor", d.occ_hit_floor},
+            {"prior_glass", d.prior_glass},
+            {"prior_occupied", d.prior_occupied},
+            {"min_glass_hits", d.min_glass_hits},
             {"search_cells", d.search_cells}}},
           {"prune_unfitted_glass", a.options.prune_unfitted_glass},
           {"phantoms",
-           {{"enabled", a.options.phantoms}, {"glass_margin", a.options.phantom.glass_margin},
+           {{"enabled", a.options.phantoms},
+            {"glass_margin", a.options.phantom.glass_margin},
             {"block_margin", a.options.phantom.block_margin},
             {"min_folded_fraction", a.options.phantom.min_folded_fraction}}},
           {"mrf",
-           {{"solver", mrf::toString(a.options.mrf.solver)}, {"psi", mrf::toString(a.options.mrf.psi)},
-            {"unary_weight", a.options.mrf.unary_weight}, {"tile", a.options.mrf.tile},
+           {{"solver", mrf::toString(a.options.mrf.solver)},
+            {"psi", mrf::toString(a.options.mrf.psi)},
+            {"unary_weight", a.options.mrf.unary_weight},
+            {"tile", a.options.mrf.tile},
             {"sweeps", a.options.mrf.sweeps}}},
           {"heuristic",
-           {{"min_hits", h.min_hits}, {"min_window_hit_ratio", h.min_window_hit_ratio},
-            {"min_other_misses", h.min_other_misses}, {"max_other_hit_ratio", h.max_other_hit_ratio},
+           {{"min_hits", h.min_hits},
+            {"min_window_hit_ratio", h.min_window_hit_ratio},
+            {"min_other_misses", h.min_other_misses},
+            {"max_other_hit_ratio", h.max_other_hit_ratio},
             {"occupied_hit_ratio", h.occupied_hit_ratio}}}};
 }
 
@@ -109,25 +120,32 @@ void run(MapArgs& args) {
                       {"beams", st.beams},
                       {"hit_beams", st.hit_beams},
                       {"cells_traversed", st.cells_traversed},
-                      {"grid", {{"width", e.geometry.width}, {"height", e.geometry.height},
-                                {"resolution", e.geometry.resolution},
-                                {"origin", {e.geometry.origin.x(), e.geometry.origin.y()}}}},
+                      {"grid",
+                       {{"width", e.geometry.width},
+                        {"height", e.geometry.height},
+                        {"resolution", e.geometry.resolution},
+                        {"origin", {e.geometry.origin.x(), e.geometry.origin.y()}}}},
                       {"observed_cells", st.observed_cells},
                       {"candidate_cells", st.candidate_cells},
                       {"glass_cells", st.glass_cells},
                       {"occupied_cells", st.occupied_cells},
                       {"state_bytes", st.state_bytes},
                       {"bytes_per_observed_cell", st.bytes_per_observed_cell},
-                      {"seconds", {{"read", seconds_read}, {"counts", st.seconds_counts},
-                                   {"angles", st.seconds_angles}, {"classify", st.seconds_classify},
-                                   {"mrf", refined.seconds}, {"phantoms", result.seconds.phantoms},
-                                   {"vectorize", floorplan.stats.seconds},
-                                   {"total", seconds}}},
+                      {"seconds",
+                       {{"read", seconds_read},
+                        {"counts", st.seconds_counts},
+                        {"angles", st.seconds_angles},
+                        {"classify", st.seconds_classify},
+                        {"mrf", refined.seconds},
+                        {"phantoms", result.seconds.phantoms},
+                        {"vectorize", floorplan.stats.seconds},
+                        {"total", seconds}}},
                       {"mrf_changed_cells", refined.changed},
                       {"mrf_energy", {{"before", refined.energy_before}, {"after", refined.energy_after}}},
-                      {"mirror_phantoms", {{"beams_through_glass", phantom.beams_through_glass},
-                                           {"folded_beams", phantom.folded_beams},
-                                           {"cells_cleared", phantom.cells_cleared}}},
+                      {"mirror_phantoms",
+                       {{"beams_through_glass", phantom.beams_through_glass},
+                        {"folded_beams", phantom.folded_beams},
+                        {"cells_cleared", phantom.cells_cleared}}},
                       {"glass_cells_off_segments", result.pruned_glass},
                       {"glass_segments", floorplan.map.count(Material::Glass)},
                       {"wall_segments", floorplan.map.count(Material::Wall)},
@@ -174,18 +192,25 @@ const cli::Registrar reg(40, [](CLI::App& app) {
       "DIR/map.yaml + map.pgm (ROS, glass as occupied), labels.tif (GeoTIFF codes), map.png, stats.json,\n"
       "floorplan.{gpkg,geojson,dxf,svg,png}.");
   cmd->add_option("log", args->log, "CARMEN log (.clf/.log, optionally .gz) with SLAM-corrected laser poses")
-      ->required()->check(CLI::ExistingFile);
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", args->out, "output directory")->required();
-  cmd->add_option("--method", args->method,
-                  "heuristic (paper 2.5.3) | direct (direct-reflection classifier, 2.5.4) | mrf (direct, then the MRF, 2.5.5)")
-      ->check(CLI::IsMember({"heuristic", "direct", "mrf"}))->capture_default_str();
+  cmd->add_option(
+         "--method", args->method,
+         "heuristic (paper 2.5.3) | direct (direct-reflection classifier, 2.5.4) | mrf (direct, then the MRF, 2.5.5)")
+      ->check(CLI::IsMember({"heuristic", "direct", "mrf"}))
+      ->capture_default_str();
   cmd->add_option("--mrf-solver", args->mrf_solver, "mrf: swap | expansion | icm")
-      ->check(CLI::IsMember({"swap", "expansion", "icm"}))->capture_default_str();
-  cmd->add_option("--mrf-psi", args->mrf_psi,
-                  "mrf: pairwise table: paper (OCC free next to glass) | closed (glass next to OCC costs 0.6 too) | neutral")
-      ->check(CLI::IsMember({"paper", "closed", "neutral"}))->capture_default_str();
+      ->check(CLI::IsMember({"swap", "expansion", "icm"}))
+      ->capture_default_str();
+  cmd->add_option(
+         "--mrf-psi", args->mrf_psi,
+         "mrf: pairwise table: paper (OCC free next to glass) | closed (glass next to OCC costs 0.6 too) | neutral")
+      ->check(CLI::IsMember({"paper", "closed", "neutral"}))
+      ->capture_default_str();
   cmd->add_option("--mrf-weight", args->options.mrf.unary_weight, "mrf: weight of the -log posteriors against Psi")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("!--no-vector", args->vectorize,
                 "write no floorplan files (the floorplan is still fitted in memory for the pane fit,\n"
                 "unless --keep-unfitted-glass)");
@@ -208,25 +233,36 @@ const cli::Registrar reg(40, [](CLI::App& app) {
                   "refuse up front a grid whose dense layers would need more than this [MB]")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--angle-bin", o.angle_bin_deg, "incidence-angle bin width [deg], divides 180")->capture_default_str();
+  cmd->add_option("--angle-bin", o.angle_bin_deg, "incidence-angle bin width [deg], divides 180")
+      ->capture_default_str();
   cmd->add_option("--range-cap", o.beams.range_cap, "use beams up to this range; max-range readings clear to it [m]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--no-return-range", o.beams.no_return_range,
                   "max-range and no-return readings clear free space up to this range [m]; 0: the range cap")
       ->capture_default_str();
   cmd->add_option("--miss-margin", o.beams.miss_margin, "no miss counted this close before a reading [m]")
       ->capture_default_str();
   cmd->add_option("--laser-id", args->laser_id, "keep only scans of this CARMEN laser (0: all)")->capture_default_str();
-  cmd->add_option("--sigmoid-margin", o.direct.sigmoid_margin, "direct: sigmoid margin delta [cells]")->capture_default_str();
-  cmd->add_option("--direct-sigma", o.direct.direct_sigma_deg, "direct: direct-reflection lobe sigma [deg]")->capture_default_str();
-  cmd->add_option("--direct-peak", o.direct.direct_peak, "direct: P(return) at normal incidence")->capture_default_str();
-  cmd->add_option("--prior-glass", o.direct.prior_glass, "direct: prior of glass for a hit cell")->capture_default_str();
-  cmd->add_option("--prior-occupied", o.direct.prior_occupied, "direct: prior of OCC for a hit cell")->capture_default_str();
+  cmd->add_option("--sigmoid-margin", o.direct.sigmoid_margin, "direct: sigmoid margin delta [cells]")
+      ->capture_default_str();
+  cmd->add_option("--direct-sigma", o.direct.direct_sigma_deg, "direct: direct-reflection lobe sigma [deg]")
+      ->capture_default_str();
+  cmd->add_option("--direct-peak", o.direct.direct_peak, "direct: P(return) at normal incidence")
+      ->capture_default_str();
+  cmd->add_option("--prior-glass", o.direct.prior_glass, "direct: prior of glass for a hit cell")
+      ->capture_default_str();
+  cmd->add_option("--prior-occupied", o.direct.prior_occupied, "direct: prior of OCC for a hit cell")
+      ->capture_default_str();
   cmd->add_option("--p-hit-empty", o.direct.p_hit_emp, "direct: P(beam ends in an empty cell)")->capture_default_str();
-  cmd->add_option("--p-hit-occupied", o.direct.p_hit_occ, "direct: P(beam ends in an occupied cell it reaches)")->capture_default_str();
-  cmd->add_option("--min-glass-hits", o.direct.min_glass_hits, "direct: hits a cell needs to be glass")->capture_default_str();
-  cmd->add_option("--heuristic-min-hits", o.heuristic.min_hits, "heuristic: hits in the angle window")->capture_default_str();
-  cmd->add_option("--heuristic-min-misses", o.heuristic.min_other_misses, "heuristic: misses outside the window")->capture_default_str();
+  cmd->add_option("--p-hit-occupied", o.direct.p_hit_occ, "direct: P(beam ends in an occupied cell it reaches)")
+      ->capture_default_str();
+  cmd->add_option("--min-glass-hits", o.direct.min_glass_hits, "direct: hits a cell needs to be glass")
+      ->capture_default_str();
+  cmd->add_option("--heuristic-min-hits", o.heuristic.min_hits, "heuristic: hits in the angle window")
+      ->capture_default_str();
+  cmd->add_option("--heuristic-min-misses", o.heuristic.min_other_misses, "heuristic: misses outside the window")
+      ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->quiet, "no progress, no summary");
   cmd->callback([args] { run(*args); });
 });

@@ -38,9 +38,9 @@ void run(const RenderArgs& args) {
     std::size_t offset = 0, expected = 0;
     for (const LaserScan& s : log.scans) expected += s.ranges.size();
     if (!outcomes.empty() && outcomes.size() != expected)
-      throw Error("has " + std::to_string(outcomes.size()) + " outcomes, the log " + std::to_string(expected) +
-                      " beams",
-                  args.outcomes);
+      throw Error(
+          "has " + std::to_string(outcomes.size()) + " outcomes, the log " + std::to_string(expected) + " beams",
+          args.outcomes);
     for (std::size_t k = 0; k < log.scans.size(); ++k) {
       const LaserScan& s = log.scans[k];
       pic.trajectory.push_back(s.laser_pose.t);
@@ -62,17 +62,17 @@ void run(const RenderArgs& args) {
 
 const cli::Registrar reg(35, [](CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
-  CLI::App* sub = app.add_subcommand(
-      "render", "Draw a floorplan to PNG or SVG: walls dark, glass blue; optionally a log's trajectory (red)\n"
-                "and scan endpoints, coloured by simulated outcome when --outcomes is given (grey wall,\n"
-                "green direct glass return, orange reflection phantom, cyan through glass, purple person).");
+  CLI::App* sub =
+      app.add_subcommand("render",
+                         "Draw a floorplan to PNG or SVG: walls dark, glass blue; optionally a log's trajectory (red)\n"
+                         "and scan endpoints, coloured by simulated outcome when --outcomes is given (grey wall,\n"
+                         "green direct glass return, orange reflection phantom, cyan through glass, purple person).");
   sub->add_option("floorplan", args->floorplan, "floorplan (any format glassmap reads)")
       ->required()
       ->check(CLI::ExistingFile);
   sub->add_option("-o,--output", args->out, "output picture, .png or .svg")->required();
   cli::addUnitsOption(*sub, args->units);
-  sub->add_option("--log", args->log, "CARMEN log: draw its laser poses and scan endpoints")
-      ->check(CLI::ExistingFile);
+  sub->add_option("--log", args->log, "CARMEN log: draw its laser poses and scan endpoints")->check(CLI::ExistingFile);
   sub->add_option("--outcomes", args->outcomes, "outcomes.bin written by 'glassmap simulate' for the same log")
       ->check(CLI::ExistingFile);
   sub->add_option("--every", args->every, "draw the endpoints of every N-th scan (0: none)")->capture_default_str();

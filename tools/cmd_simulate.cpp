@@ -41,22 +41,36 @@ nlohmann::json sceneJson(const sim::Scene& s) {
           {"segments", s.map.segments.size()},
           {"glass_segments", s.map.count(Material::Glass)},
           {"laser",
-           {{"model", l.model}, {"fov_deg", rad2deg(l.fov)}, {"resolution_deg", rad2deg(l.resolution)},
-            {"max_range", l.max_range}, {"rate", l.rate}, {"range_sigma", l.range_sigma}}},
+           {{"model", l.model},
+            {"fov_deg", rad2deg(l.fov)},
+            {"resolution_deg", rad2deg(l.resolution)},
+            {"max_range", l.max_range},
+            {"rate", l.rate},
+            {"range_sigma", l.range_sigma}}},
           {"glass",
-           {{"n_glass", g.n_glass}, {"direct_sigma_deg", g.direct_sigma_deg}, {"direct_peak", g.direct_peak},
-            {"reflection_gain", g.reflection_gain}, {"max_bounces", g.max_bounces}}},
+           {{"n_glass", g.n_glass},
+            {"direct_sigma_deg", g.direct_sigma_deg},
+            {"direct_peak", g.direct_peak},
+            {"reflection_gain", g.reflection_gain},
+            {"max_bounces", g.max_bounces}}},
           {"motion",
-           {{"odom_trans_sigma", m.odom_trans_sigma}, {"odom_rot_sigma", m.odom_rot_sigma},
-            {"odom_rot_per_m", m.odom_rot_per_m}, {"odom_scale_bias", m.odom_scale_bias},
-            {"odom_drift_deg_per_m", rad2deg(m.odom_drift_per_m)}, {"slam_sigma_xy", m.slam_sigma_xy},
+           {{"odom_trans_sigma", m.odom_trans_sigma},
+            {"odom_rot_sigma", m.odom_rot_sigma},
+            {"odom_rot_per_m", m.odom_rot_per_m},
+            {"odom_scale_bias", m.odom_scale_bias},
+            {"odom_drift_deg_per_m", rad2deg(m.odom_drift_per_m)},
+            {"slam_sigma_xy", m.slam_sigma_xy},
             {"slam_sigma_theta_deg", rad2deg(m.slam_sigma_theta)}}},
           {"people",
-           {{"density", s.people.density}, {"radius", s.people.radius}, {"speed", s.people.speed},
+           {{"density", s.people.density},
+            {"radius", s.people.radius},
+            {"speed", s.people.speed},
             {"group_size", s.people.group_size}}},
           {"trajectory",
-           {{"waypoints", s.trajectory.waypoints.size()}, {"round_trip", s.trajectory.round_trip},
-            {"speed", s.trajectory.speed}, {"turn_rate_deg", rad2deg(s.trajectory.turn_rate)}}}};
+           {{"waypoints", s.trajectory.waypoints.size()},
+            {"round_trip", s.trajectory.round_trip},
+            {"speed", s.trajectory.speed},
+            {"turn_rate_deg", rad2deg(s.trajectory.turn_rate)}}}};
 }
 
 void run(const SimulateArgs& args) {
@@ -95,16 +109,16 @@ void run(const SimulateArgs& args) {
     beams += result.counts[i];
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  nlohmann::json meta = {{"scene", sceneJson(scene)},
-                         {"seed", args.seed},
-                         {"scans", result.log.scans.size()},
-                         {"beams", beams},
-                         {"duration_s", result.ground_truth.empty() ? 0.0 : result.ground_truth.back().timestamp},
-                         {"outcome_counts", counts},
-                         {"outcome_codes", {"wall", "glass_direct", "glass_reflected", "glass_transmitted",
-                                            "person", "max_range"}},
-                         {"kidnap", nullptr},
-                         {"seconds", seconds}};
+  nlohmann::json meta = {
+      {"scene", sceneJson(scene)},
+      {"seed", args.seed},
+      {"scans", result.log.scans.size()},
+      {"beams", beams},
+      {"duration_s", result.ground_truth.empty() ? 0.0 : result.ground_truth.back().timestamp},
+      {"outcome_counts", counts},
+      {"outcome_codes", {"wall", "glass_direct", "glass_reflected", "glass_transmitted", "person", "max_range"}},
+      {"kidnap", nullptr},
+      {"seconds", seconds}};
   if (!result.ground_truth.empty()) {
     // The true first laser pose, and the same as `glassmap localize --init` takes it.
     const Pose2& p0 = result.ground_truth.front().pose;
@@ -140,11 +154,11 @@ void run(const SimulateArgs& args) {
 
 const cli::Registrar reg(30, [](CLI::App& app) {
   auto args = std::make_shared<SimulateArgs>();
-  CLI::App* sub = app.add_subcommand(
-      "simulate",
-      "Simulate a laser log with ground truth from a scene (maps/<scene>/scene.yaml):\n"
-      "writes DIR/log.clf (CARMEN), DIR/groundtruth.tum, DIR/floorplan.gpkg + .geojson (the true\n"
-      "segments), DIR/outcomes.bin (one byte per beam: its physical outcome) and DIR/meta.json.");
+  CLI::App* sub =
+      app.add_subcommand("simulate",
+                         "Simulate a laser log with ground truth from a scene (maps/<scene>/scene.yaml):\n"
+                         "writes DIR/log.clf (CARMEN), DIR/groundtruth.tum, DIR/floorplan.gpkg + .geojson (the true\n"
+                         "segments), DIR/outcomes.bin (one byte per beam: its physical outcome) and DIR/meta.json.");
   sub->add_option("scene", args->scene, "scene YAML file")->required()->check(CLI::ExistingFile);
   sub->add_option("-o,--output", args->out, "output directory (created if missing)")->required();
   sub->add_option("--seed", args->seed, "random seed; the same seed gives the same log")->capture_default_str();

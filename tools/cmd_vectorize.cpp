@@ -71,8 +71,7 @@ void run(const VectorizeArgs& args) {
                             {"dropped", s.dropped},
                             {"dominant_axis_deg", s.dominant_axis_deg},
                             {"seconds", s.seconds}};
-  if (!args.json.empty())
-    cli::writeJsonFile(args.json, j);
+  if (!args.json.empty()) cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
   std::printf("%-22s %zu x %zu cells at %.3f m\n", "labels", static_cast<std::size_t>(grid.width),
               static_cast<std::size_t>(grid.height), grid.resolution);
@@ -87,9 +86,11 @@ void run(const VectorizeArgs& args) {
 }
 
 void addMaterialOptions(CLI::App* cmd, const std::string& prefix, vector::MaterialOptions& o) {
-  cmd->add_option("--" + prefix + "-merge-gap", o.merge_gap, prefix + ": merge collinear pieces across gaps up to this [m]")
+  cmd->add_option("--" + prefix + "-merge-gap", o.merge_gap,
+                  prefix + ": merge collinear pieces across gaps up to this [m]")
       ->capture_default_str();
-  cmd->add_option("--" + prefix + "-min-length", o.min_length, prefix + ": drop shorter segments [m]")->capture_default_str();
+  cmd->add_option("--" + prefix + "-min-length", o.min_length, prefix + ": drop shorter segments [m]")
+      ->capture_default_str();
   cmd->add_option("--" + prefix + "-radius", o.neighbour_radius, prefix + ": region growing neighbour radius [m]")
       ->capture_default_str();
   cmd->add_option("--" + prefix + "-max-distance", o.max_distance, prefix + ": region growing band half-width [m]")
@@ -104,7 +105,8 @@ const cli::Registrar reg(50, [](CLI::App& app) {
       "OUT is a stem: writes OUT.gpkg, OUT.geojson, OUT.dxf, OUT.svg, OUT.png (see --formats);\n"
       "an existing directory or a path ending in '/' writes DIR/floorplan.*; 'plan.gpkg' means the stem 'plan'.");
   cmd->add_option("labels", args->labels, "label GeoTIFF (codes 0 unknown, 1 empty, 2 occupied, 10+k glass)")
-      ->required()->check(CLI::ExistingFile);
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", args->out, "output stem or directory")->required();
   cmd->add_option("--formats", args->formats, "comma-separated: gpkg,geojson,json,shp,fgb,dxf,svg,png,pdf")
       ->capture_default_str();
@@ -112,9 +114,11 @@ const cli::Registrar reg(50, [](CLI::App& app) {
   cmd->add_option("--corner-snap", args->options.corner_snap, "join wall ends this close to another wall [m] (0: off)")
       ->capture_default_str();
   cmd->add_option("--max-wall-thickness", args->options.max_wall_thickness,
-                  "merge parallel wall faces closer than this into one centre line [m]")->capture_default_str();
+                  "merge parallel wall faces closer than this into one centre line [m]")
+      ->capture_default_str();
   cmd->add_option("--noise-floor", args->options.noise_floor,
-                  "BIC: floor of the rms cell offset from a line [cells]; higher merges more")->capture_default_str();
+                  "BIC: floor of the rms cell offset from a line [cells]; higher merges more")
+      ->capture_default_str();
   addMaterialOptions(cmd, "glass", args->options.glass);
   addMaterialOptions(cmd, "wall", args->options.wall);
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");

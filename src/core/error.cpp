@@ -3,8 +3,7 @@
 namespace glassmap {
 namespace {
 
-std::string compose(const std::string& message, const std::string& file, std::size_t line,
-                    const std::string& field) {
+std::string compose(const std::string& message, const std::string& file, std::size_t line, const std::string& field) {
   std::string out;
   if (!file.empty()) {
     out += file;

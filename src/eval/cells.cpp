@@ -36,8 +36,10 @@ std::vector<float> rasteriseGlass(const VectorMap& truth, const grid::GridGeomet
     const int pad_lo_x = std::max(0, static_cast<int>(std::ceil((g.origin.x() - box.min().x()) / g.resolution)) + 1);
     const int pad_lo_y = std::max(0, static_cast<int>(std::ceil((g.origin.y() - box.min().y()) / g.resolution)) + 1);
     big.origin = g.origin - Vec2(pad_lo_x * g.resolution, pad_lo_y * g.resolution);
-    big.width = g.width + pad_lo_x + std::max(0, static_cast<int>(std::ceil((box.max().x() - g.maxCorner().x()) / g.resolution)) + 1);
-    big.height = g.height + pad_lo_y + std::max(0, static_cast<int>(std::ceil((box.max().y() - g.maxCorner().y()) / g.resolution)) + 1);
+    big.width = g.width + pad_lo_x +
+                std::max(0, static_cast<int>(std::ceil((box.max().x() - g.maxCorner().x()) / g.resolution)) + 1);
+    big.height = g.height + pad_lo_y +
+                 std::max(0, static_cast<int>(std::ceil((box.max().y() - g.maxCorner().y()) / g.resolution)) + 1);
     grid::traverse(big, s.a, s.b, [&](int x, int y, double, bool) {
       if (!g.contains(x - pad_lo_x, y - pad_lo_y)) ++out;
     });

@@ -14,8 +14,8 @@ namespace {
 
 struct Indexed {
   const MapSegment* s;
-  std::size_t index;  // in its map
-  Eigen::AlignedBox2d box;           // grown by the tolerance
+  std::size_t index;        // in its map
+  Eigen::AlignedBox2d box;  // grown by the tolerance
 };
 
 std::vector<Indexed> ofMaterial(const VectorMap& map, Material m, double grow) {

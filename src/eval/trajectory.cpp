@@ -8,8 +8,7 @@
 
 namespace glassmap::eval {
 
-TrajectoryErrors evaluateTrajectory(const std::vector<StampedPose>& truth_in,
-                                    const std::vector<StampedPose>& estimate,
+TrajectoryErrors evaluateTrajectory(const std::vector<StampedPose>& truth_in, const std::vector<StampedPose>& estimate,
                                     const TrajectoryEvalOptions& options) {
   std::vector<StampedPose> truth = truth_in;
   std::stable_sort(truth.begin(), truth.end(),
@@ -49,8 +48,7 @@ TrajectoryErrors evaluateTrajectory(const std::vector<StampedPose>& truth_in,
   r.max = *std::max_element(e.begin(), e.end());
   std::vector<double> sorted = e;
   std::sort(sorted.begin(), sorted.end());
-  r.median = r.matched % 2 ? sorted[r.matched / 2]
-                           : 0.5 * (sorted[r.matched / 2 - 1] + sorted[r.matched / 2]);
+  r.median = r.matched % 2 ? sorted[r.matched / 2] : 0.5 * (sorted[r.matched / 2 - 1] + sorted[r.matched / 2]);
   r.heading_mean_deg = std::accumulate(r.heading_errors_deg.begin(), r.heading_errors_deg.end(), 0.0) / n;
   r.heading_max_deg = *std::max_element(r.heading_errors_deg.begin(), r.heading_errors_deg.end());
   // Fraction of time: each matched estimate stands for the interval to the next one (the last for
@@ -59,17 +57,17 @@ TrajectoryErrors evaluateTrajectory(const std::vector<StampedPose>& truth_in,
   for (std::size_t i = 0; i < r.matched; ++i) {
     double dt = 1.0;
     if (r.matched > 1) {
-      dt = i + 1 < r.matched ? r.times[i + 1] - r.times[i]
-                             : (r.times.back() - r.times.front()) / (n - 1.0);
+      dt = i + 1 < r.matched ? r.times[i + 1] - r.times[i] : (r.times.back() - r.times.front()) / (n - 1.0);
     }
     dt = std::max(dt, 0.0);
     total += dt;
     if (e[i] < options.good_error) good += dt;
   }
-  r.fraction_under = total > 0 ? good / total
-                               : static_cast<double>(std::count_if(e.begin(), e.end(), [&](double v) {
-                                   return v < options.good_error;
-                                 })) / n;
+  r.fraction_under =
+      total > 0
+          ? good / total
+          : static_cast<double>(std::count_if(e.begin(), e.end(), [&](double v) { return v < options.good_error; })) /
+                n;
   return r;
 }
 

@@ -54,13 +54,9 @@ Fresnel fresnel(double theta_i, double n1, double n2) {
   return f;
 }
 
-double reflectance(double theta_i, double n1, double n2) {
-  return fresnel(theta_i, n1, n2).reflectance();
-}
+double reflectance(double theta_i, double n1, double n2) { return fresnel(theta_i, n1, n2).reflectance(); }
 
-double transmittance(double theta_i, double n1, double n2) {
-  return fresnel(theta_i, n1, n2).transmittance();
-}
+double transmittance(double theta_i, double n1, double n2) { return fresnel(theta_i, n1, n2).transmittance(); }
 
 double paneGlassPath(double thickness, double theta_i, double n_glass) {
   // From air into glass theta_t always exists (n_glass >= 1).
@@ -107,8 +103,7 @@ double paneOpticalExcess(double thickness, double theta_i, double n_glass) {
   return (n_glass - 1.0) * paneGlassPath(thickness, theta_i, n_glass);
 }
 
-PaneCrossing crossPane(const Vec2& entry, const Vec2& dir, const Vec2& normal, double thickness,
-                       double n_glass) {
+PaneCrossing crossPane(const Vec2& entry, const Vec2& dir, const Vec2& normal, double thickness, double n_glass) {
   // Orient the normal along the travel direction; split dir into normal and tangential parts.
   const Vec2 nn = dir.dot(normal) >= 0 ? normal : Vec2(-normal);
   const double cos_i = std::min(1.0, dir.dot(nn));

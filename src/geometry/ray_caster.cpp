@@ -51,8 +51,7 @@ inline double acceptLimit(double max_range) {
 
 // Does the segment a + v*d touch the box [x0,x1] x [y0,y1]? The caller guarantees that the
 // boxes of the two overlap; this checks the separating axis along the segment's normal.
-bool segmentTouchesBox(double ax, double ay, double dx, double dy, double x0, double y0,
-                       double x1, double y1) {
+bool segmentTouchesBox(double ax, double ay, double dx, double dy, double x0, double y0, double x1, double y1) {
   const double f00 = dx * (y0 - ay) - dy * (x0 - ax);
   const double f10 = dx * (y0 - ay) - dy * (x1 - ax);
   const double f01 = dx * (y1 - ay) - dy * (x0 - ax);
@@ -179,12 +178,11 @@ RayCaster::RayCaster(const VectorMap& map, RayCasterOptions options) : map_(map)
 }
 
 template <bool kSkip>
-RayCaster::Best RayCaster::walk(double ox, double oy, double ux, double uy, double max_range,
-                                std::int32_t skip) const {
+RayCaster::Best RayCaster::walk(double ox, double oy, double ux, double uy, double max_range, std::int32_t skip) const {
   const double limit = acceptLimit(max_range);
   if (nx_ == 0 || !(max_range > 0)) return {limit, kNone};
   if (!std::isfinite(ox + oy + ux + uy)) return {limit, kNone};  // NaN/inf input: no hit
-  const double inv_ux = 1.0 / ux, inv_uy = 1.0 / uy;  // +-inf for axis-parallel rays
+  const double inv_ux = 1.0 / ux, inv_uy = 1.0 / uy;             // +-inf for axis-parallel rays
 
   // Entry point: the origin when it is inside the grid (the common case), else the point where
   // the ray enters the grid box (slab method). Where the ray leaves the box the cell index
@@ -264,8 +262,8 @@ RayCaster::Best RayCaster::walk(double ox, double oy, double ux, double uy, doub
       const __m128d q = _mm_mul_pd(v, _mm_sub_pd(one, v));
       __m128d m = _mm_and_pd(_mm_cmpge_pd(q, slack), _mm_cmpgt_pd(t, zero));
       if constexpr (kSkip) {
-        m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x(ids[2 * k + 1] == skip_id ? 0 : -1,
-                                                          ids[2 * k] == skip_id ? 0 : -1)));
+        m = _mm_and_pd(
+            m, _mm_castsi128_pd(_mm_set_epi64x(ids[2 * k + 1] == skip_id ? 0 : -1, ids[2 * k] == skip_id ? 0 : -1)));
       }
       const __m128d tm = _mm_or_pd(_mm_and_pd(m, t), _mm_andnot_pd(m, inf2));
       const double lo = _mm_cvtsd_f64(tm), hi = _mm_cvtsd_f64(_mm_unpackhi_pd(tm, tm));
@@ -307,10 +305,8 @@ RayCaster::Best RayCaster::walk(double ox, double oy, double ux, double uy, doub
   return {limit, kNone};
 }
 
-RayCaster::Best RayCaster::walk(double ox, double oy, double ux, double uy, double max_range,
-                                std::int32_t skip) const {
-  return skip >= 0 ? walk<true>(ox, oy, ux, uy, max_range, skip)
-                   : walk<false>(ox, oy, ux, uy, max_range, skip);
+RayCaster::Best RayCaster::walk(double ox, double oy, double ux, double uy, double max_range, std::int32_t skip) const {
+  return skip >= 0 ? walk<true>(ox, oy, ux, uy, max_range, skip) : walk<false>(ox, oy, ux, uy, max_range, skip);
 }
 
 RayCaster::Best RayCaster::brute(double ox, double oy, double ux, double uy, double max_range,
@@ -339,25 +335,21 @@ RayHit RayCaster::finish(const Best& best, double ux, double uy) const {
   return hit;
 }
 
-RayHit RayCaster::cast(const Vec2& origin, double angle, double max_range,
-                       std::int32_t skip) const {
+RayHit RayCaster::cast(const Vec2& origin, double angle, double max_range, std::int32_t skip) const {
   return cast(origin, Vec2(std::cos(angle), std::sin(angle)), max_range, skip);
 }
 
-RayHit RayCaster::cast(const Vec2& origin, const Vec2& dir, double max_range,
-                       std::int32_t skip) const {
-  return finish(walk(origin.x(), origin.y(), dir.x(), dir.y(), max_range, skip), dir.x(),
-                dir.y());
+RayHit RayCaster::cast(const Vec2& origin, const Vec2& dir, double max_range, std::int32_t skip) const {
+  return finish(walk(origin.x(), origin.y(), dir.x(), dir.y(), max_range, skip), dir.x(), dir.y());
 }
 
-double RayCaster::castRange(const Vec2& origin, const Vec2& dir, double max_range,
-                            std::int32_t skip) const {
+double RayCaster::castRange(const Vec2& origin, const Vec2& dir, double max_range, std::int32_t skip) const {
   const Best best = walk(origin.x(), origin.y(), dir.x(), dir.y(), max_range, skip);
   return best.id == kNone ? std::numeric_limits<double>::infinity() : best.t;
 }
 
-void RayCaster::castScan(const Vec2& origin, double start_angle, double step, int count,
-                         double max_range, double* ranges) const {
+void RayCaster::castScan(const Vec2& origin, double start_angle, double step, int count, double max_range,
+                         double* ranges) const {
   double ux = std::cos(start_angle), uy = std::sin(start_angle);
   const double cs = std::cos(step), sn = std::sin(step);
   for (int k = 0; k < count; ++k) {
@@ -369,15 +361,12 @@ void RayCaster::castScan(const Vec2& origin, double start_angle, double step, in
   }
 }
 
-RayHit RayCaster::castBruteForce(const Vec2& origin, double angle, double max_range,
-                                 std::int32_t skip) const {
+RayHit RayCaster::castBruteForce(const Vec2& origin, double angle, double max_range, std::int32_t skip) const {
   return castBruteForce(origin, Vec2(std::cos(angle), std::sin(angle)), max_range, skip);
 }
 
-RayHit RayCaster::castBruteForce(const Vec2& origin, const Vec2& dir, double max_range,
-                                 std::int32_t skip) const {
-  return finish(brute(origin.x(), origin.y(), dir.x(), dir.y(), max_range, skip), dir.x(),
-                dir.y());
+RayHit RayCaster::castBruteForce(const Vec2& origin, const Vec2& dir, double max_range, std::int32_t skip) const {
+  return finish(brute(origin.x(), origin.y(), dir.x(), dir.y(), max_range, skip), dir.x(), dir.y());
 }
 
 }  // namespace glassmap

@@ -29,8 +29,8 @@ Eigen::AlignedBox2d VectorMap::bounds() const {
 }
 
 std::size_t VectorMap::count(Material m) const {
-  return static_cast<std::size_t>(std::count_if(segments.begin(), segments.end(),
-                                                [m](const MapSegment& s) { return s.material == m; }));
+  return static_cast<std::size_t>(
+      std::count_if(segments.begin(), segments.end(), [m](const MapSegment& s) { return s.material == m; }));
 }
 
 }  // namespace glassmap

@@ -40,7 +40,8 @@ CellEvidence baseEvidence(const grid::HitMissGrid& counts, const AngleHistograms
   }
   // Candidates in ascending cell order.
   std::vector<std::pair<std::uint32_t, std::int32_t>> order(hist.size());
-  for (std::size_t i = 0; i < hist.size(); ++i) order[i] = {hist.cell(static_cast<std::int32_t>(i)), static_cast<std::int32_t>(i)};
+  for (std::size_t i = 0; i < hist.size(); ++i)
+    order[i] = {hist.cell(static_cast<std::int32_t>(i)), static_cast<std::int32_t>(i)};
   std::sort(order.begin(), order.end());
   e.cells.resize(order.size());
   for (std::size_t i = 0; i < order.size(); ++i) e.cells[i] = order[i].first;
@@ -88,9 +89,8 @@ std::vector<double> directLobe(int bins, const DirectOptions& o) {
   return lobe;
 }
 
-SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams,
-                             const grid::HitMissGrid& counts, const grid::OccupancyModel& occ,
-                             AngleHistograms& hist, const DirectOptions& o,
+SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams, const grid::HitMissGrid& counts,
+                             const grid::OccupancyModel& occ, AngleHistograms& hist, const DirectOptions& o,
                              grid::IntegrationStats* stats, const grid::Progress& progress) {
   SigmoidSums sums;
   sums.log_occ.assign(hist.size(), 0.0f);
@@ -115,8 +115,8 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
     grid::IntegrationStats stats;
   };
   tbb::enumerable_thread_specific<Part> parts([&] {
-    return Part{hist.emptyCounts(), std::vector<std::int64_t>(hist.size(), 0),
-                std::vector<std::int64_t>(hist.size(), 0), {}};
+    return Part{
+        hist.emptyCounts(), std::vector<std::int64_t>(hist.size(), 0), std::vector<std::int64_t>(hist.size(), 0), {}};
   });
   grid::forScansInParallel(log.scans.size(), progress, parts, [&](std::size_t s, Part& part) {
     grid::IntegrationStats& st = part.stats;
@@ -154,8 +154,8 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
       }
       // Paper 2.5.4: P_occ^t = 1 / (1 + exp(d_real - d_range - delta)), distances in cells.
       const double x = (d_real - beam.range) / res - o.sigmoid_margin;
-      const double log_p_occ = -softplus(x);       // log P_occ^t
-      const double log_1m_p_occ = -softplus(-x);   // log (1 - P_occ^t)
+      const double log_p_occ = -softplus(x);      // log P_occ^t
+      const double log_1m_p_occ = -softplus(-x);  // log (1 - P_occ^t)
       const auto k = static_cast<std::size_t>(end_id);
       part.log_occ[k] += std::llround(kFixed * std::log(o.p_hit_occ * std::exp(log_p_occ) + o.occ_hit_floor));
       part.log_glass[k] += std::llround(kFixed * log_1m_p_occ);
@@ -189,7 +189,10 @@ CellEvidence classifyHeuristic(const grid::HitMissGrid& counts, const AngleHisto
     const std::uint16_t* h = hist.hits(ids[i]);
     const std::uint16_t* m = hist.misses(ids[i]);
     int total_h = 0, total_m = 0;
-    for (int b = 0; b < bins; ++b) { total_h += h[b]; total_m += m[b]; }
+    for (int b = 0; b < bins; ++b) {
+      total_h += h[b];
+      total_m += m[b];
+    }
     // The lobe: the bin with the most hits (ties: more hits in its neighbours) and its two
     // neighbours. Glass: the best bin is mostly hit, the bins outside the lobe mostly missed.
     int best = 0;
@@ -200,10 +203,8 @@ CellEvidence classifyHeuristic(const grid::HitMissGrid& counts, const AngleHisto
     const int lobe_h = lobeHits(best);
     const int lobe_m = m[(best + bins - 1) % bins] + m[best] + m[(best + 1) % bins];
     const int oh = total_h - lobe_h, om = total_m - lobe_m;
-    const bool glass = h[best] >= o.min_hits &&
-                       h[best] >= o.min_window_hit_ratio * (h[best] + m[best]) &&
-                       om >= o.min_other_misses &&
-                       oh <= o.max_other_hit_ratio * (oh + om);
+    const bool glass = h[best] >= o.min_hits && h[best] >= o.min_window_hit_ratio * (h[best] + m[best]) &&
+                       om >= o.min_other_misses && oh <= o.max_other_hit_ratio * (oh + om);
     int label = kEmpty;
     if (glass) {
       label = glassLabel(best);
@@ -218,8 +219,8 @@ CellEvidence classifyHeuristic(const grid::HitMissGrid& counts, const AngleHisto
   return e;
 }
 
-CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistograms& hist,
-                            const SigmoidSums& sums, const DirectOptions& o) {
+CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistograms& hist, const SigmoidSums& sums,
+                            const DirectOptions& o) {
   if (!(o.prior_glass > 0.0 && o.prior_occupied > 0.0 && o.prior_glass + o.prior_occupied < 1.0)) {
     throw Error("priors must be positive and sum below 1", {}, 0, "prior_glass/prior_occupied");
   }

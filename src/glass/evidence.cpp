@@ -11,7 +11,8 @@ std::size_t CellEvidence::countOccupied() const {
 }
 
 std::size_t CellEvidence::countObserved() const {
-  return static_cast<std::size_t>(std::count_if(label.begin(), label.end(), [](std::uint8_t l) { return l != kUnknown; }));
+  return static_cast<std::size_t>(
+      std::count_if(label.begin(), label.end(), [](std::uint8_t l) { return l != kUnknown; }));
 }
 
 void labelByMinimumCost(CellEvidence& e) {

@@ -1,8 +1,8 @@
 #include "glassmap/glass/mapping.hpp"
 
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 
 #include "glassmap/core/error.hpp"
 
@@ -79,8 +79,8 @@ MappingResult mapLog(const LaserLog& log, const MappingOptions& o,
   st.candidate_cells = hist.size();
   st.glass_cells = result.evidence.countGlass();
   st.occupied_cells = result.evidence.countOccupied();
-  st.state_bytes = counts.bytes() + hist.bytes() +
-                   (sums.log_occ.capacity() + sums.log_glass.capacity()) * sizeof(float);
+  st.state_bytes =
+      counts.bytes() + hist.bytes() + (sums.log_occ.capacity() + sums.log_glass.capacity()) * sizeof(float);
   st.bytes_per_observed_cell =
       st.observed_cells ? static_cast<double>(st.state_bytes) / static_cast<double>(st.observed_cells) : 0.0;
   return result;

@@ -41,8 +41,8 @@ bool wallNormal(const CellEvidence& e, int cx, int cy, Vec2& normal) {
 
 }  // namespace
 
-PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions& beams,
-                                    const PhantomOptions& options, CellEvidence& e) {
+PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions& beams, const PhantomOptions& options,
+                                    CellEvidence& e) {
   PhantomStats stats;
   if (e.countGlass() == 0 || e.cells.empty()) return stats;
   const grid::GridGeometry& g = e.geometry;

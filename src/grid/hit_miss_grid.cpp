@@ -11,9 +11,7 @@ double OccupancyModel::logOdds(const CellCounts& c) const {
   return std::clamp(c.hits * l_hit + c.misses * l_miss, l_min, l_max);
 }
 
-double OccupancyModel::probability(const CellCounts& c) const {
-  return 1.0 / (1.0 + std::exp(-logOdds(c)));
-}
+double OccupancyModel::probability(const CellCounts& c) const { return 1.0 / (1.0 + std::exp(-logOdds(c))); }
 
 HitMissGrid::HitMissGrid(const GridGeometry& geometry) : geometry_(geometry) {
   tiles_x_ = (static_cast<std::size_t>(geometry.width) + kTileSize - 1) / kTileSize;

@@ -7,8 +7,7 @@
 
 namespace glassmap::grid {
 
-GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOptions& options,
-                            double margin) {
+GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOptions& options, double margin) {
   Eigen::AlignedBox2d box;
   for (const LaserScan& scan : log.scans) {
     box.extend(scan.laser_pose.t);
@@ -76,8 +75,8 @@ IntegrationStats integrateCounts(const LaserLog& log, const BeamOptions& options
       [&](const HitMissGrid& part) { grid.merge(part); });
 }
 
-IntegrationStats integrateAngles(const LaserLog& log, const BeamOptions& options,
-                                 AngleHistograms& histograms, const Progress& progress) {
+IntegrationStats integrateAngles(const LaserLog& log, const BeamOptions& options, AngleHistograms& histograms,
+                                 const Progress& progress) {
   const int bins = histograms.bins();
   return integratePass<std::vector<std::uint16_t>>(
       log, options, histograms.geometry(), progress, [&] { return histograms.emptyCounts(); },

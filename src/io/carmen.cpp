@@ -18,7 +18,8 @@ using io_detail::LineContext;
 
 double carmenGuessFov(int num_beams) {
   switch (num_beams) {
-    case 181: case 361: return kPi;
+    case 181:
+    case 361: return kPi;
     case 180: return deg2rad(179.0);
     case 360: return deg2rad(179.5);
     case 401: return deg2rad(100.0);
@@ -86,8 +87,7 @@ class Body {
   void expectRemaining(std::size_t expected, const std::string& what, const char* field) const {
     if (remaining() != expected)
       ctx_.fail(std::string(type_) + " line needs " + what + " (" + std::to_string(expected) +
-                    " values) here but has " + std::to_string(remaining()) +
-                    " (truncated line or wrong count?)",
+                    " values) here but has " + std::to_string(remaining()) + " (truncated line or wrong count?)",
                 field);
   }
   void expectAtLeast(std::size_t expected, const std::string& what, const char* field) const {
@@ -194,8 +194,8 @@ class CarmenParser {
     LaserScan s;
     s.laser_id = id;
     const long n = checkedCount(b.integer("num_readings"), ctx_, "num_readings");
-    b.expectRemaining(static_cast<std::size_t>(n) + 7,
-                      std::to_string(n) + " ranges, 6 pose values and a timestamp", "num_readings");
+    b.expectRemaining(static_cast<std::size_t>(n) + 7, std::to_string(n) + " ranges, 6 pose values and a timestamp",
+                      "num_readings");
     b.ranges(n, s.ranges, stats_.no_return_ranges);
     s.laser_pose = pose(b, "x", "y", "theta");
     s.odom_pose = pose(b, "odom_x", "odom_y", "odom_theta");
@@ -203,8 +203,7 @@ class CarmenParser {
     s.timestamp = b.finite("timestamp");
     s.start_angle = -0.5 * kPi;  // CARMEN's readlog assumes a SICK centred on the heading
     s.angular_step = carmenGuessAngleIncrement(static_cast<int>(n));
-    s.max_range = opt_.flaser_max_range > 0.0 ? opt_.flaser_max_range
-                                              : (id == 1 ? front_max_range_ : rear_max_range_);
+    s.max_range = opt_.flaser_max_range > 0.0 ? opt_.flaser_max_range : (id == 1 ? front_max_range_ : rear_max_range_);
     emit(std::move(s));
   }
 
@@ -239,8 +238,7 @@ class CarmenParser {
     if (b.remaining() != kTail) {  // the newer form carries num_remissions and remissions
       const long m = checkedCount(b.integer("num_remissions"), ctx_, "num_remissions");
       b.expectRemaining(static_cast<std::size_t>(m) + kTail,
-                        std::to_string(m) + " remissions, 11 pose/motion values and a timestamp",
-                        "num_remissions");
+                        std::to_string(m) + " remissions, 11 pose/motion values and a timestamp", "num_remissions");
       b.skip(m);
     }
     s.laser_pose = pose(b, "laser_x", "laser_y", "laser_theta");
@@ -264,8 +262,8 @@ class CarmenParser {
     s.has_laser_pose = false;
     laserConfig(b, s);
     const long n = checkedCount(b.integer("num_readings"), ctx_, "num_readings");
-    b.expectAtLeast(static_cast<std::size_t>(n) + 2,
-                    std::to_string(n) + " ranges, num_remissions and a timestamp", "num_readings");
+    b.expectAtLeast(static_cast<std::size_t>(n) + 2, std::to_string(n) + " ranges, num_remissions and a timestamp",
+                    "num_readings");
     b.ranges(n, s.ranges, stats_.no_return_ranges);
     const long m = checkedCount(b.integer("num_remissions"), ctx_, "num_remissions");
     b.expectRemaining(static_cast<std::size_t>(m) + 1, std::to_string(m) + " remissions and a timestamp",
@@ -403,10 +401,11 @@ void writeCarmenLog(const fs::path& path, const LaserLog& log) {
     out.reserve(1 << 16);
     out += "# written by glassmap\n";
     out += "# message formats defined: PARAM ROBOTLASER1 ODOM TRUEPOS\n";
-    out += "# ROBOTLASER1 laser_type start_angle field_of_view angular_resolution maximum_range accuracy "
-           "remission_mode num_readings [range_readings] num_remissions laser_pose_x laser_pose_y "
-           "laser_pose_theta robot_pose_x robot_pose_y robot_pose_theta laser_tv laser_rv "
-           "forward_safety_dist side_safty_dist turn_axis timestamp hostname logger_timestamp\n";
+    out +=
+        "# ROBOTLASER1 laser_type start_angle field_of_view angular_resolution maximum_range accuracy "
+        "remission_mode num_readings [range_readings] num_remissions laser_pose_x laser_pose_y "
+        "laser_pose_theta robot_pose_x robot_pose_y robot_pose_theta laser_tv laser_rv "
+        "forward_safety_dist side_safty_dist turn_axis timestamp hostname logger_timestamp\n";
     for (const auto& [name, value] : log.params) {
       out += "PARAM " + name + ' ' + value + " 0 glassmap 0\n";
     }

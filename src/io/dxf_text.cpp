@@ -85,7 +85,8 @@ void addToTable(std::vector<Group>& g, const std::string& table, const std::vect
     for (; j < g.size() && g[j].number() != 0; ++j) {
       if (g[j].number() == 70) g[j].value = std::to_string(std::atoi(g[j].value.c_str()) + n);
     }
-    for (; j < g.size() && !g[j].is(0, "ENDTAB"); ++j) {}
+    for (; j < g.size() && !g[j].is(0, "ENDTAB"); ++j) {
+    }
     g.insert(g.begin() + static_cast<std::ptrdiff_t>(j), records.begin(), records.end());
     return;
   }
@@ -104,7 +105,7 @@ void writeDxfHeaderTemplate(const fs::path& path) {
   const char* found = CPLFindFile("GDAL", "header.dxf");
   if (!found) throw Error("GDAL's DXF header template header.dxf not found (is GDAL_DATA set?)");
   std::vector<Group> g = readGroups(found);
-  setHeaderVar(g, "$INSUNITS", 70, "     6");    // metres
+  setHeaderVar(g, "$INSUNITS", 70, "     6");     // metres
   setHeaderVar(g, "$MEASUREMENT", 70, "     1");  // metric
 
   std::set<unsigned long> used;
@@ -120,18 +121,29 @@ void writeDxfHeaderTemplate(const fs::path& path) {
   };
   const std::string layer_table = tableHandle(g, "LAYER");
   auto layer = [&](const std::string& name, int colour) {
-    return std::vector<Group>{group(0, "LAYER"), group(5, handle()), group(330, layer_table),
-                              group(100, "AcDbSymbolTableRecord"), group(100, "AcDbLayerTableRecord"),
-                              group(2, name), group(70, "     0"), group(62, "     " + std::to_string(colour)),
-                              group(6, "Continuous"), group(370, "    -3"), group(390, "F")};
+    return std::vector<Group>{group(0, "LAYER"),
+                              group(5, handle()),
+                              group(330, layer_table),
+                              group(100, "AcDbSymbolTableRecord"),
+                              group(100, "AcDbLayerTableRecord"),
+                              group(2, name),
+                              group(70, "     0"),
+                              group(62, "     " + std::to_string(colour)),
+                              group(6, "Continuous"),
+                              group(370, "    -3"),
+                              group(390, "F")};
   };
   std::vector<Group> layers = layer("WALL", 7);
   const std::vector<Group> glass = layer("GLASS", 4);
   layers.insert(layers.end(), glass.begin(), glass.end());
   addToTable(g, "LAYER", layers, 2);
-  const std::vector<Group> app{group(0, "APPID"), group(5, handle()), group(330, tableHandle(g, "APPID")),
-                               group(100, "AcDbSymbolTableRecord"), group(100, "AcDbRegAppTableRecord"),
-                               group(2, "GLASSMAP"), group(70, "     0")};
+  const std::vector<Group> app{group(0, "APPID"),
+                               group(5, handle()),
+                               group(330, tableHandle(g, "APPID")),
+                               group(100, "AcDbSymbolTableRecord"),
+                               group(100, "AcDbRegAppTableRecord"),
+                               group(2, "GLASSMAP"),
+                               group(70, "     0")};
   addToTable(g, "APPID", app, 1);
   writeGroups(path, g);
 }
@@ -149,8 +161,7 @@ void checkDxfGroupCodes(const fs::path& dxf) {
   in.seekg(0, std::ios::end);
   if (in.tellg() > 0) {
     in.seekg(-1, std::ios::end);
-    if (in.get() == '\r')
-      throw Error("DXF ends in a bare carriage return (damaged line endings)", dxf.string());
+    if (in.get() == '\r') throw Error("DXF ends in a bare carriage return (damaged line endings)", dxf.string());
   }
   in.clear();
   in.seekg(0);
@@ -173,8 +184,8 @@ void checkDxfGroupCodes(const fs::path& dxf) {
       if (code != 0) continue;
       if (text == "SECTION") {
         if (in_section)
-          throw Error("SECTION inside the section opened at line " + std::to_string(section_line) +
-                          " (missing ENDSEC)", dxf.string(), number);
+          throw Error("SECTION inside the section opened at line " + std::to_string(section_line) + " (missing ENDSEC)",
+                      dxf.string(), number);
         in_section = true;
         section_line = number;
       } else if (text == "ENDSEC") {
@@ -198,8 +209,8 @@ void checkDxfGroupCodes(const fs::path& dxf) {
     if (text.empty() && in.peek() == std::char_traits<char>::eof()) break;  // trailing blank line
     const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), code);
     if (ec != std::errc() || ptr != text.data() + text.size() || code < -5 || code > 1071)
-      throw Error("expected a DXF group code (an integer), got '" + std::string(text.substr(0, 40)) + "'",
-                  dxf.string(), number);
+      throw Error("expected a DXF group code (an integer), got '" + std::string(text.substr(0, 40)) + "'", dxf.string(),
+                  number);
   }
   if (in_section)
     throw Error("section opened at line " + std::to_string(section_line) + " is not closed by ENDSEC", dxf.string(),
@@ -211,8 +222,7 @@ void checkDxfGroupCodes(const fs::path& dxf) {
   while (std::getline(in, line)) {
     ++number;
     if (!trim(line).empty())
-      throw Error("content after the closing '0 EOF' group of line " + std::to_string(eof_line), dxf.string(),
-                  number);
+      throw Error("content after the closing '0 EOF' group of line " + std::to_string(eof_line), dxf.string(), number);
   }
 }
 
@@ -231,17 +241,17 @@ double dxfUnitInMetres(const fs::path& dxf) {
     }
     if (!want) continue;
     switch (std::atoi(value.c_str())) {  // AutoCAD's $INSUNITS codes
-      case 1: return 0.0254;           // inches
-      case 2: return 0.3048;           // feet
-      case 3: return 1609.344;         // miles
-      case 4: return 0.001;            // millimetres
-      case 5: return 0.01;             // centimetres
-      case 6: return 1.0;              // metres
-      case 7: return 1000.0;           // kilometres
-      case 8: return 0.0254e-6;        // microinches
-      case 9: return 0.0254e-3;        // mils
-      case 10: return 0.9144;          // yards
-      case 14: return 0.1;             // decimetres
+      case 1: return 0.0254;             // inches
+      case 2: return 0.3048;             // feet
+      case 3: return 1609.344;           // miles
+      case 4: return 0.001;              // millimetres
+      case 5: return 0.01;               // centimetres
+      case 6: return 1.0;                // metres
+      case 7: return 1000.0;             // kilometres
+      case 8: return 0.0254e-6;          // microinches
+      case 9: return 0.0254e-3;          // mils
+      case 10: return 0.9144;            // yards
+      case 14: return 0.1;               // decimetres
       default: return 0.0;
     }
   }
@@ -276,8 +286,10 @@ void addDxfXData(const fs::path& dxf, const VectorMap& map) {
     const Group& x = g[i];
     if (x.number() == 0) {
       flush();
-      if (x.value == "ENDSEC") in_entities = false;
-      else if (in_entities) in_line = x.value == "LWPOLYLINE" || x.value == "LINE";
+      if (x.value == "ENDSEC")
+        in_entities = false;
+      else if (in_entities)
+        in_line = x.value == "LWPOLYLINE" || x.value == "LINE";
     }
     if (x.is(2, "ENTITIES") && i > 0 && g[i - 1].is(0, "SECTION")) in_entities = true;
     out.push_back(x);

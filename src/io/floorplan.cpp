@@ -95,8 +95,8 @@ std::string implausibleExtentWarning(const VectorMap& map, const FloorplanUnits&
   if (side >= 2.0 && side <= 5000.0) return {};
   char buf[160];
   std::snprintf(buf, sizeof buf, "the plan spans %.3g x %.3g m", size.x(), size.y());
-  return path.string() + ": " + buf + ", implausible for a building floor, with its units read as " +
-         units.source + "; if that is wrong, pass --units (m, cm, mm, in, ft, ...)";
+  return path.string() + ": " + buf + ", implausible for a building floor, with its units read as " + units.source +
+         "; if that is wrong, pass --units (m, cm, mm, in, ft, ...)";
 }
 
 FloorplanFormat floorplanFormatFromPath(const fs::path& path) {
@@ -106,8 +106,7 @@ FloorplanFormat floorplanFormatFromPath(const fs::path& path) {
   if (ext == ".shp") return FloorplanFormat::Shapefile;
   if (ext == ".fgb") return FloorplanFormat::FlatGeobuf;
   if (ext == ".dxf") return FloorplanFormat::Dxf;
-  throw Error("unknown floorplan format '" + ext +
-                  "': expected .gpkg, .geojson, .json, .shp, .fgb or .dxf",
+  throw Error("unknown floorplan format '" + ext + "': expected .gpkg, .geojson, .json, .shp, .fgb or .dxf",
               path.string());
 }
 

@@ -89,7 +89,8 @@ void addSegments(const OGRGeometry* g, double to_m, const FeatureAttrs& a, Vecto
   } else if (type == wkbPolygon || type == wkbCurvePolygon) {
     const OGRCurvePolygon* poly = g->toCurvePolygon();
     addSegments(poly->getExteriorRingCurve(), to_m, a, out, skipped);
-    for (int i = 0; i < poly->getNumInteriorRings(); ++i) addSegments(poly->getInteriorRingCurve(i), to_m, a, out, skipped);
+    for (int i = 0; i < poly->getNumInteriorRings(); ++i)
+      addSegments(poly->getInteriorRingCurve(i), to_m, a, out, skipped);
   } else if (OGR_GT_IsSubClassOf(type, wkbGeometryCollection)) {
     const OGRGeometryCollection* c = g->toGeometryCollection();
     for (int i = 0; i < c->getNumGeometries(); ++i) addSegments(c->getGeometryRef(i), to_m, a, out, skipped);
@@ -134,7 +135,6 @@ void readXData(OGRFeature& f, int raw_idx, FeatureAttrs& a, bool& has_thickness,
 }  // namespace
 
 namespace {
-
 
 // What the text of a GeoJSON file says before its features: an old-style "crs" member, and
 // glassmap's marker.
@@ -186,8 +186,8 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
   } catch (const Error&) {
   }
   const char* const allowed[] = {driver.c_str(), nullptr};
-  GDALDatasetUniquePtr ds(GDALDataset::Open(file.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY,
-                                            driver.empty() ? nullptr : allowed));
+  GDALDatasetUniquePtr ds(
+      GDALDataset::Open(file.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, driver.empty() ? nullptr : allowed));
   if (!ds) throw Error("cannot open as a vector floorplan" + errors.suffix(), file);
   VectorMap map;
   map.name = path.stem().string();
@@ -200,8 +200,8 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
   for (OGRLayer* layer : ds->GetLayers()) {
     double to_m = dxf_unit > 0.0 ? dxf_unit : 1.0;
     std::string source = dxf_unit > 0.0 ? "DXF $INSUNITS (" + io_detail::unitName(dxf_unit) + ")"
-                         : is_dxf      ? "no DXF $INSUNITS: metres"
-                                       : "none declared: metres";
+                         : is_dxf       ? "no DXF $INSUNITS: metres"
+                                        : "none declared: metres";
     // GDAL reports every GeoJSON layer as WGS 84 (RFC 7946: longitude/latitude). A GeoJSON that
     // declares a CRS ("crs" member) is read in it; glassmap's own GeoJSON (marked) is local metres;
     // an unmarked one without a CRS is longitude/latitude when read as metres it would be an
@@ -228,15 +228,17 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
     if (srs) {
       if (srs->IsGeographic()) {
         if (options.unit_in_metres > 0.0)
-          throw Error("layer '" + std::string(layer->GetName()) + "' is in geographic coordinates: --units does not apply",
-                      file);
+          throw Error(
+              "layer '" + std::string(layer->GetName()) + "' is in geographic coordinates: --units does not apply",
+              file);
         OGREnvelope env;
         if (layer->GetExtent(&env, TRUE) != OGRERR_NONE)
           throw Error("layer '" + std::string(layer->GetName()) + "' has no extent to centre a local frame on", file);
         const double lon = 0.5 * (env.MinX + env.MaxX), lat = 0.5 * (env.MinY + env.MaxY);
         to_local = toLocalMetres(*srs, lon, lat, file);
         char buf[200];
-        std::snprintf(buf, sizeof buf, "longitude/latitude (%s), projected to metres about %.6f, %.6f (transverse Mercator)",
+        std::snprintf(buf, sizeof buf,
+                      "longitude/latitude (%s), projected to metres about %.6f, %.6f (transverse Mercator)",
                       srs->GetName() ? srs->GetName() : "geographic", lon, lat);
         source = buf;
         to_m = 1.0;

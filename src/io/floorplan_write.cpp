@@ -57,14 +57,13 @@ void verifyWritten(const fs::path& path, FloorplanFormat format, std::size_t exp
     while (OGRFeatureUniquePtr f{layer->GetNextFeature()}) ++count;
   }
   if (count != expected)
-    throw Error("only " + std::to_string(count) + " of " + std::to_string(expected) +
-                    " segments reached the file" + why + errors.suffix(),
+    throw Error("only " + std::to_string(count) + " of " + std::to_string(expected) + " segments reached the file" +
+                    why + errors.suffix(),
                 path.string());
 }
 
 /// Writes the features of `map` into a new dataset at `target` with GDAL.
-void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat format,
-                   const fs::path& dxf_header) {
+void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat format, const fs::path& dxf_header) {
   GdalErrorCollector errors;
   const std::string driver_name(gdalDriverName(format));
   GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name.c_str());
@@ -75,8 +74,8 @@ void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat
   if (!ds) throw Error("cannot create " + driver_name + " file" + errors.suffix(), target.string());
 
   OGRSpatialReference srs;
-  const bool with_crs = format == FloorplanFormat::Gpkg || format == FloorplanFormat::Shapefile ||
-                        format == FloorplanFormat::FlatGeobuf;
+  const bool with_crs =
+      format == FloorplanFormat::Gpkg || format == FloorplanFormat::Shapefile || format == FloorplanFormat::FlatGeobuf;
   if (with_crs && srs.importFromWkt(std::string(io_detail::kLocalWkt).c_str()) != OGRERR_NONE)
     throw Error("cannot build the local metric CRS" + errors.suffix());
   CPLStringList layer_options;
@@ -86,7 +85,8 @@ void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat
     layer_options.SetNameValue("DESCRIPTION", io_detail::kGeoJsonMarker);  // read back as local metres
   }
   if (format == FloorplanFormat::Shapefile) layer_options.SetNameValue("ENCODING", "UTF-8");
-  OGRLayer* layer = ds->CreateLayer(io_detail::kFloorplanLayerName, with_crs ? &srs : nullptr, wkbLineString, layer_options.List());
+  OGRLayer* layer =
+      ds->CreateLayer(io_detail::kFloorplanLayerName, with_crs ? &srs : nullptr, wkbLineString, layer_options.List());
   if (!layer) throw Error("cannot create layer" + errors.suffix(), target.string());
 
   if (format != FloorplanFormat::Dxf) {
@@ -171,9 +171,7 @@ void writeFloorplan(const fs::path& path, const VectorMap& map) {
   checkSegments(map);
   io_detail::ensureGdalRegistered();
   switch (format) {
-    case FloorplanFormat::Shapefile:
-      writeShapefile(path, map);
-      return;
+    case FloorplanFormat::Shapefile: writeShapefile(path, map); return;
     case FloorplanFormat::Dxf: {
       // The header template (metres, layers WALL and GLASS) lives in a temporary file beside the
       // output; the entities get their attributes as XDATA after GDAL has written them.
@@ -194,8 +192,7 @@ void writeFloorplan(const fs::path& path, const VectorMap& map) {
       });
       return;
     }
-    default:
-      writeAtomically(path, [&](const fs::path& tmp) { writeWithGdal(tmp, map, format, {}); });
+    default: writeAtomically(path, [&](const fs::path& tmp) { writeWithGdal(tmp, map, format, {}); });
   }
 }
 

@@ -1,9 +1,9 @@
 #pragma once
 // Private GDAL plumbing of the io module: one-time driver registration and error capture.
 
+#include <cpl_error.h>
 #include <gdal.h>
 #include <ogr_api.h>
-#include <cpl_error.h>
 
 #include <string>
 #include <vector>

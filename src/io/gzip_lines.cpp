@@ -80,8 +80,7 @@ void GzipLineReader::throwZlibError() {
   int errnum = Z_OK;
   const char* msg = gzerror(file_.get(), &errnum);
   std::string text = errnum == Z_ERRNO ? std::strerror(errno) : (msg ? msg : "unknown zlib error");
-  throw Error("corrupt or truncated gzip data after line " + std::to_string(line_number_) + " (" + text + ")",
-              name_);
+  throw Error("corrupt or truncated gzip data after line " + std::to_string(line_number_) + " (" + text + ")", name_);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -95,8 +94,7 @@ GzipLineWriter::GzipLineWriter(const std::filesystem::path& path) : name_(path.s
 
 void GzipLineWriter::write(std::string_view text) {
   if (text.empty()) return;
-  if (gzwrite(file_.get(), text.data(), static_cast<unsigned>(text.size())) != static_cast<int>(text.size()))
-    fail();
+  if (gzwrite(file_.get(), text.data(), static_cast<unsigned>(text.size())) != static_cast<int>(text.size())) fail();
 }
 
 void GzipLineWriter::close() {

@@ -6,15 +6,17 @@
 #include <memory>
 
 #include "gdal_util.hpp"
-#include "text_parse.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
+#include "text_parse.hpp"
 
 namespace glassmap {
 namespace {
 
 struct DatasetCloser {
-  void operator()(void* ds) const { if (ds) GDALClose(ds); }
+  void operator()(void* ds) const {
+    if (ds) GDALClose(ds);
+  }
 };
 using Dataset = std::unique_ptr<void, DatasetCloser>;
 
@@ -70,8 +72,8 @@ void writeLabelRaster(const std::filesystem::path& tif, const LabelRaster& r) {
     setColourTable(band);
     for (int row = 0; row < r.height; ++row) {  // file row 0 = top = grid row height - 1
       const auto* src = &r.codes[static_cast<std::size_t>(r.height - 1 - row) * r.width];
-      if (GDALRasterIO(band, GF_Write, 0, row, r.width, 1, const_cast<std::uint8_t*>(src), r.width, 1,
-                       GDT_Byte, 0, 0) != CE_None) {
+      if (GDALRasterIO(band, GF_Write, 0, row, r.width, 1, const_cast<std::uint8_t*>(src), r.width, 1, GDT_Byte, 0,
+                       0) != CE_None) {
         throw Error("cannot write GeoTIFF row" + errors.suffix(), tif.string());
       }
     }
@@ -90,7 +92,8 @@ LabelRaster readLabelRaster(const std::filesystem::path& tif) {
   if (!ds) throw Error("cannot open raster" + errors.suffix(), tif.string());
   if (GDALGetRasterCount(ds.get()) != 1) throw Error("expected a single-band raster", tif.string());
   GDALRasterBandH band = GDALGetRasterBand(ds.get(), 1);
-  if (GDALGetRasterDataType(band) != GDT_Byte) throw Error("expected Byte (uint8) label codes", tif.string(), 0, "band 1");
+  if (GDALGetRasterDataType(band) != GDT_Byte)
+    throw Error("expected Byte (uint8) label codes", tif.string(), 0, "band 1");
   double gt[6];
   if (GDALGetGeoTransform(ds.get(), gt) != CE_None) throw Error("raster has no geotransform", tif.string());
   if (gt[2] != 0.0 || gt[4] != 0.0 || !(gt[1] > 0.0) || std::abs(std::abs(gt[5]) - gt[1]) > 1e-9 * gt[1]) {
@@ -109,8 +112,8 @@ LabelRaster readLabelRaster(const std::filesystem::path& tif) {
   r.codes.resize(static_cast<std::size_t>(r.width) * r.height);
   for (int row = 0; row < r.height; ++row) {
     const int grid_row = north_up ? r.height - 1 - row : row;
-    if (GDALRasterIO(band, GF_Read, 0, row, r.width, 1, &r.codes[static_cast<std::size_t>(grid_row) * r.width],
-                     r.width, 1, GDT_Byte, 0, 0) != CE_None) {
+    if (GDALRasterIO(band, GF_Read, 0, row, r.width, 1, &r.codes[static_cast<std::size_t>(grid_row) * r.width], r.width,
+                     1, GDT_Byte, 0, 0) != CE_None) {
       throw Error("cannot read raster row " + std::to_string(row) + errors.suffix(), tif.string());
     }
   }

@@ -43,8 +43,10 @@ LogSummary summarizeCarmenLog(const std::filesystem::path& path, const CarmenRea
     s.max_range_max = std::max(s.max_range_max, scan.max_range);
     for (float r : scan.ranges) {
       if (!std::isfinite(r)) continue;
-      if (r >= scan.max_range) ++s.max_readings;
-      else s.longest_return = std::max(s.longest_return, static_cast<double>(r));
+      if (r >= scan.max_range)
+        ++s.max_readings;
+      else
+        s.longest_return = std::max(s.longest_return, static_cast<double>(r));
     }
     stamp(scan.timestamp);
     if (last_scan_time && scan.timestamp < *last_scan_time) ++s.time_reversals;

@@ -15,8 +15,7 @@ namespace glassmap {
 namespace {
 
 void setRgb(cairo_t* cr, std::uint32_t rgb, double alpha = 1.0) {
-  cairo_set_source_rgba(cr, ((rgb >> 16) & 0xff) / 255.0, ((rgb >> 8) & 0xff) / 255.0, (rgb & 0xff) / 255.0,
-                        alpha);
+  cairo_set_source_rgba(cr, ((rgb >> 16) & 0xff) / 255.0, ((rgb >> 8) & 0xff) / 255.0, (rgb & 0xff) / 255.0, alpha);
 }
 
 constexpr std::uint32_t kWallColour = 0x202020;
@@ -45,8 +44,7 @@ void renderFloorplan(const std::filesystem::path& out, const VectorMap& map, con
   writeAtomically(out, [&](const std::filesystem::path& tmp) {
     cairo_surface_t* surface = ext == ".svg" ? cairo_svg_surface_create(tmp.c_str(), w, h)
                                              : cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
-    std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface_guard(surface,
-                                                                                    cairo_surface_destroy);
+    std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface_guard(surface, cairo_surface_destroy);
     if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS)
       throw Error("cannot create a drawing surface", out.string());
     cairo_t* cr = cairo_create(surface);

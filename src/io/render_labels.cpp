@@ -23,19 +23,43 @@ Rgb labelColour(int label, int bins) {
   const double p = 0.0, q = v * (1.0 - f), t = v * f;
   double r = v, g = t, b = p;
   switch (sector) {
-    case 0: r = v; g = t; b = p; break;
-    case 1: r = q; g = v; b = p; break;
-    case 2: r = p; g = v; b = t; break;
-    case 3: r = p; g = q; b = v; break;
-    case 4: r = t; g = p; b = v; break;
-    default: r = v; g = p; b = q; break;
+    case 0:
+      r = v;
+      g = t;
+      b = p;
+      break;
+    case 1:
+      r = q;
+      g = v;
+      b = p;
+      break;
+    case 2:
+      r = p;
+      g = v;
+      b = t;
+      break;
+    case 3:
+      r = p;
+      g = q;
+      b = v;
+      break;
+    case 4:
+      r = t;
+      g = p;
+      b = v;
+      break;
+    default:
+      r = v;
+      g = p;
+      b = q;
+      break;
   }
   auto c = [](double x) { return static_cast<std::uint8_t>(std::lround(255.0 * x)); };
   return {c(r), c(g), c(b)};
 }
 
-void writeLabelsPng(const std::filesystem::path& png, int width, int height,
-                    const std::vector<std::uint8_t>& labels, int bins, const LabelRenderOptions& options) {
+void writeLabelsPng(const std::filesystem::path& png, int width, int height, const std::vector<std::uint8_t>& labels,
+                    int bins, const LabelRenderOptions& options) {
   if (width <= 0 || height <= 0 || labels.size() != static_cast<std::size_t>(width) * height) {
     throw Error("label grid size does not match its width and height", png.string());
   }

@@ -5,9 +5,9 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <cmath>
 #include <memory>
 #include <string>
 
@@ -73,7 +73,8 @@ void renderFloorplanPdf(const std::filesystem::path& out, const VectorMap& map, 
         cairo_set_source_rgb(cr, 0.125, 0.125, 0.125);
       cairo_set_line_width(cr, std::max(0.25, s.thickness * pt_per_m));
       const auto px = [&](const Vec2& p) {
-        return std::pair<double, double>(margin + (p.x() - box.min().x()) * pt_per_m, margin + (box.max().y() - p.y()) * pt_per_m);
+        return std::pair<double, double>(margin + (p.x() - box.min().x()) * pt_per_m,
+                                         margin + (box.max().y() - p.y()) * pt_per_m);
       };
       const auto [ax, ay] = px(s.a);
       const auto [bx, by] = px(s.b);

@@ -8,9 +8,9 @@
 #include <string>
 
 #include "gdal_util.hpp"
-#include "text_parse.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
+#include "text_parse.hpp"
 
 namespace glassmap {
 
@@ -23,8 +23,8 @@ enum class MapMode { Trinary, Scale, Raw };
 /// An 8-bit image as read from disk: row 0 is the top row. `shade` in [0, 1].
 struct GrayImage {
   int width = 0, height = 0;
-  std::vector<double> shade;  ///< brightness per pixel in [0, 1]
-  std::vector<int> raw;       ///< pixel value (average of colour channels)
+  std::vector<double> shade;      ///< brightness per pixel in [0, 1]
+  std::vector<int> raw;           ///< pixel value (average of colour channels)
   std::vector<bool> transparent;  ///< alpha < 1 (only images with an alpha channel)
 };
 
@@ -41,7 +41,8 @@ GrayImage readPgm(const fs::path& path) {
     int c;
     while ((c = in.get()) != EOF) {
       if (c == '#') {
-        while ((c = in.get()) != EOF && c != '\n') {}
+        while ((c = in.get()) != EOF && c != '\n') {
+        }
         continue;
       }
       if (std::isspace(c)) {
@@ -81,8 +82,8 @@ GrayImage readPgm(const fs::path& path) {
   const std::size_t avail = here >= 0 && end >= here ? static_cast<std::size_t>(end - here) : 0;
   const std::size_t need = magic == "P5" ? n * (maxval > 255 ? 2 : 1) : 2 * n - 1;
   if (need > avail)
-    throw Error("PGM pixel data is truncated: " + std::to_string(w) + " x " + std::to_string(h) +
-                    " pixels need " + std::to_string(need) + " bytes, the file has " + std::to_string(avail),
+    throw Error("PGM pixel data is truncated: " + std::to_string(w) + " x " + std::to_string(h) + " pixels need " +
+                    std::to_string(need) + " bytes, the file has " + std::to_string(avail),
                 name);
   img.raw.resize(n);
   if (magic == "P5") {
@@ -90,11 +91,10 @@ GrayImage readPgm(const fs::path& path) {
     std::vector<unsigned char> buf(n * bytes);
     in.read(reinterpret_cast<char*>(buf.data()), static_cast<std::streamsize>(buf.size()));
     if (static_cast<std::size_t>(in.gcount()) != buf.size())
-      throw Error("PGM pixel data is truncated (" + std::to_string(in.gcount()) + " of " +
-                      std::to_string(buf.size()) + " bytes)",
+      throw Error("PGM pixel data is truncated (" + std::to_string(in.gcount()) + " of " + std::to_string(buf.size()) +
+                      " bytes)",
                   name);
-    for (std::size_t i = 0; i < n; ++i)
-      img.raw[i] = bytes == 2 ? (buf[2 * i] << 8) | buf[2 * i + 1] : buf[i];
+    for (std::size_t i = 0; i < n; ++i) img.raw[i] = bytes == 2 ? (buf[2 * i] << 8) | buf[2 * i + 1] : buf[i];
   } else {
     for (std::size_t i = 0; i < n; ++i) {
       const std::string t = token();
@@ -202,8 +202,7 @@ OccupancyGridMap readRosMap(const fs::path& yaml_path) {
   map.resolution = asDouble(need("resolution"), "resolution");
   if (!(map.resolution > 0.0)) throw Error("must be positive", yname, line(doc["resolution"]), "resolution");
   const YAML::Node origin = need("origin");
-  if (!origin.IsSequence() || origin.size() != 3)
-    throw Error("expected [x, y, yaw]", yname, line(origin), "origin");
+  if (!origin.IsSequence() || origin.size() != 3) throw Error("expected [x, y, yaw]", yname, line(origin), "origin");
   map.origin = Pose2(asDouble(origin[0], "origin"), asDouble(origin[1], "origin"), asDouble(origin[2], "origin"));
   bool negate = false;
   if (const YAML::Node n = doc["negate"]) {
@@ -222,15 +221,20 @@ OccupancyGridMap readRosMap(const fs::path& yaml_path) {
   MapMode mode = MapMode::Trinary;
   if (const YAML::Node n = doc["mode"]) {
     const std::string m = asString(n, "mode");
-    if (m == "trinary") mode = MapMode::Trinary;
-    else if (m == "scale") mode = MapMode::Scale;
-    else if (m == "raw") mode = MapMode::Raw;
-    else throw Error("expected trinary, scale or raw, got '" + m + "'", yname, line(n), "mode");
+    if (m == "trinary")
+      mode = MapMode::Trinary;
+    else if (m == "scale")
+      mode = MapMode::Scale;
+    else if (m == "raw")
+      mode = MapMode::Raw;
+    else
+      throw Error("expected trinary, scale or raw, got '" + m + "'", yname, line(n), "mode");
   }
   fs::path image_path = image_name;
   if (image_path.is_relative()) image_path = yaml_path.parent_path() / image_path;
   if (!fs::exists(image_path, ec))
-    throw Error("image '" + image_path.string() + "' does not exist" + io_detail::reason(ec), yname, line(image_node), "image");
+    throw Error("image '" + image_path.string() + "' does not exist" + io_detail::reason(ec), yname, line(image_node),
+                "image");
   const GrayImage img = isPgm(image_path) ? readPgm(image_path) : readRasterWithGdal(image_path);
 
   map.width = img.width;
@@ -277,8 +281,7 @@ void writeRosMap(const fs::path& yaml_path_in, const OccupancyGridMap& map) {
   writeAtomically(pgm_path, [&](const fs::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw Error("cannot create", tmp.string());
-    out << "P5\n# CREATOR: glassmap " << map.resolution << " m/pix\n"
-        << map.width << ' ' << map.height << "\n255\n";
+    out << "P5\n# CREATOR: glassmap " << map.resolution << " m/pix\n" << map.width << ' ' << map.height << "\n255\n";
     std::vector<unsigned char> row(static_cast<std::size_t>(map.width));
     for (int r = map.height - 1; r >= 0; --r) {  // image top row = grid top row
       for (int c = 0; c < map.width; ++c) {
@@ -297,8 +300,8 @@ void writeRosMap(const fs::path& yaml_path_in, const OccupancyGridMap& map) {
     e << YAML::Key << "image" << YAML::Value << pgm_path.filename().string();
     e << YAML::Key << "mode" << YAML::Value << "trinary";
     e << YAML::Key << "resolution" << YAML::Value << map.resolution;
-    e << YAML::Key << "origin" << YAML::Value << YAML::Flow << YAML::BeginSeq << map.origin.x()
-      << map.origin.y() << map.origin.theta << YAML::EndSeq;
+    e << YAML::Key << "origin" << YAML::Value << YAML::Flow << YAML::BeginSeq << map.origin.x() << map.origin.y()
+      << map.origin.theta << YAML::EndSeq;
     e << YAML::Key << "negate" << YAML::Value << 0;
     e << YAML::Key << "occupied_thresh" << YAML::Value << 0.65;
     e << YAML::Key << "free_thresh" << YAML::Value << 0.196;

@@ -25,8 +25,7 @@ std::vector<StampedPose> readTum(const fs::path& path) {
     ++ctx.line;
     io_detail::splitBlanks(line, tok);
     if (tok.empty() || tok[0].front() == '#') continue;
-    if (tok.size() != 8)
-      ctx.fail("expected 8 values 'timestamp x y z qx qy qz qw', got " + std::to_string(tok.size()));
+    if (tok.size() != 8) ctx.fail("expected 8 values 'timestamp x y z qx qy qz qw', got " + std::to_string(tok.size()));
     double v[8];
     for (int i = 0; i < 8; ++i) {
       v[i] = ctx.number(tok[static_cast<std::size_t>(i)], kFields[i]);

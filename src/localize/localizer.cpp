@@ -13,8 +13,8 @@ namespace {
 
 // Odometry pose at time t from ODOM records (linear interpolation, clamped at the ends).
 Pose2 odometryAt(const std::vector<StampedPose>& odom, double t) {
-  const auto it = std::lower_bound(odom.begin(), odom.end(), t,
-                                   [](const StampedPose& p, double v) { return p.timestamp < v; });
+  const auto it =
+      std::lower_bound(odom.begin(), odom.end(), t, [](const StampedPose& p, double v) { return p.timestamp < v; });
   if (it == odom.begin()) return odom.front().pose;
   if (it == odom.end()) return odom.back().pose;
   const StampedPose& b = *it;
@@ -25,8 +25,7 @@ Pose2 odometryAt(const std::vector<StampedPose>& odom, double t) {
 
 }  // namespace
 
-LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model,
-                           const LocalizeOptions& options) {
+LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model, const LocalizeOptions& options) {
   LocalizeResult result;
   result.scans = log.scans.size();
   if (log.scans.empty()) return result;
@@ -53,8 +52,7 @@ LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model
     const OdometryDelta delta = odometryDelta(odom_at_update, odom);
     const double turned = std::abs(angleDiff(odom.theta, odom_at_update.theta));
     const bool first = k == 0;
-    const bool updated =
-        first || std::abs(delta.trans) >= options.update_min_trans || turned >= options.update_min_rot;
+    const bool updated = first || std::abs(delta.trans) >= options.update_min_trans || turned >= options.update_min_rot;
     if (updated) {
       const auto t0 = clock();
       if (first) {
@@ -101,9 +99,8 @@ void writeSpreadCsv(const std::filesystem::path& path, const LocalizeResult& res
     out << "t,spread_m,particles,corrected,relocalizations\n";
     char line[128];
     for (std::size_t k = 0; k < n; ++k) {
-      std::snprintf(line, sizeof line, "%.6f,%.6g,%zu,%d,%zu\n", result.trajectory[k].timestamp,
-                    result.spread[k], result.particles[k], static_cast<int>(result.corrected[k]),
-                    result.relocalized[k]);
+      std::snprintf(line, sizeof line, "%.6f,%.6g,%zu,%d,%zu\n", result.trajectory[k].timestamp, result.spread[k],
+                    result.particles[k], static_cast<int>(result.corrected[k]), result.relocalized[k]);
       out << line;
     }
     if (!out) throw Error("cannot write", path.string());

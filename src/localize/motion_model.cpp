@@ -18,8 +18,7 @@ OdometryDelta odometryDelta(const Pose2& from, const Pose2& to) {
   return d;
 }
 
-Pose2 sampleMotionOdometry(const Pose2& x, const OdometryDelta& u, const OdometryNoise& a,
-                           std::mt19937_64& rng) {
+Pose2 sampleMotionOdometry(const Pose2& x, const OdometryDelta& u, const OdometryNoise& a, std::mt19937_64& rng) {
   std::normal_distribution<double> n01(0.0, 1.0);
   const double r1 = u.rot1 * u.rot1, r2 = u.rot2 * u.rot2, t2 = u.trans * u.trans;
   // Probabilistic Robotics eq. 5.37-5.39 (variances a1 rot^2 + a2 trans^2, a3 trans^2 + a4 rot^2).

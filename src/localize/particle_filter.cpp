@@ -3,8 +3,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <unordered_map>
 #include <unordered_set>
@@ -33,8 +33,7 @@ std::int64_t binKey(const Pose2& p, double bin_xy, double bin_theta) {
 
 }  // namespace
 
-std::vector<std::size_t> lowVarianceResample(const std::vector<double>& weights, std::size_t count,
-                                             double u) {
+std::vector<std::size_t> lowVarianceResample(const std::vector<double>& weights, std::size_t count, double u) {
   std::vector<std::size_t> out;
   out.reserve(count);
   if (weights.empty() || count == 0) return out;
@@ -121,15 +120,16 @@ void ParticleFilter::collectFreeCells() {
       estimate += near[static_cast<std::size_t>(j) * static_cast<std::size_t>(bx) + static_cast<std::size_t>(i)];
   estimate *= (block / free_cell_) * (block / free_cell_);
   if (estimate > kMaxFreeCells)
-    throw Error("the map's free space within " + std::to_string(static_cast<int>(reach)) + " m of its segments is about " +
-                    std::to_string(static_cast<long long>(estimate / 1e6)) + "M cells of " +
-                    std::to_string(free_cell_) + " m (limit 50M): segments spread over an implausible area",
+    throw Error("the map's free space within " + std::to_string(static_cast<int>(reach)) +
+                    " m of its segments is about " + std::to_string(static_cast<long long>(estimate / 1e6)) +
+                    "M cells of " + std::to_string(free_cell_) +
+                    " m (limit 50M): segments spread over an implausible area",
                 {}, 0, "segments");
   for (int j = 0; j < by; ++j) {
     const std::size_t row = static_cast<std::size_t>(j) * static_cast<std::size_t>(bx);
     if (std::find(near.begin() + static_cast<std::ptrdiff_t>(row),
-                  near.begin() + static_cast<std::ptrdiff_t>(row + static_cast<std::size_t>(bx)), 1) ==
-        near.begin() + static_cast<std::ptrdiff_t>(row + static_cast<std::size_t>(bx)))
+                  near.begin() + static_cast<std::ptrdiff_t>(row + static_cast<std::size_t>(bx)),
+                  1) == near.begin() + static_cast<std::ptrdiff_t>(row + static_cast<std::size_t>(bx)))
       continue;
     const long long ky0 = std::max(0LL, static_cast<long long>(std::floor(j * block / free_cell_)) - 2);
     const long long ky1 = std::min(ny, static_cast<long long>(std::ceil((j + 1) * block / free_cell_)) + 2);
@@ -266,8 +266,8 @@ void ParticleFilter::resample() {
     std::partial_sum(w.begin(), w.end(), cdf.begin());
     std::unordered_set<std::int64_t> bins;
     std::size_t drawn = 0;
-    const auto lo = static_cast<std::size_t>(
-        annealing_ ? std::max(opt_.min_particles, opt_.max_particles / 10) : opt_.min_particles);
+    const auto lo = static_cast<std::size_t>(annealing_ ? std::max(opt_.min_particles, opt_.max_particles / 10)
+                                                        : opt_.min_particles);
     while (drawn < count) {
       const double r = u01(rng_) * cdf.back();
       const std::size_t i = std::min<std::size_t>(
@@ -278,8 +278,7 @@ void ParticleFilter::resample() {
     }
     count = std::max(drawn, lo);
   }
-  const double p_inject =
-      opt_.inject && !annealing_ && w_slow_ > 0 ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
+  const double p_inject = opt_.inject && !annealing_ && w_slow_ > 0 ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
   const auto injected = static_cast<std::size_t>(std::floor(p_inject * static_cast<double>(count)));
   const std::size_t kept = count - injected;
   std::vector<Particle> next;

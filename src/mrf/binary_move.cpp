@@ -11,9 +11,8 @@
 namespace glassmap::mrf::detail {
 namespace {
 
-using Graph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property,
-                                                 boost::no_property, boost::no_property,
-                                                 uint32_t, uint32_t>;
+using Graph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, boost::no_property,
+                                                 boost::no_property, uint32_t, uint32_t>;
 using Edge = boost::graph_traits<Graph>::edge_descriptor;
 
 }  // namespace
@@ -164,7 +163,7 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
   for (uint32_t k = 0; k < n; ++k) {
     const int64_t m = std::min(th0_[k], th1_[k]);
     constant += m;
-    cap[base_s + k] = th1_[k] - m;  // s -> k is cut when x_k = 1
+    cap[base_s + k] = th1_[k] - m;    // s -> k is cut when x_k = 1
     cap[tarc_[k] + 1] = th0_[k] - m;  // k -> t is cut when x_k = 0
     rev[base_s + k] = Edge(k, tarc_[k]);
     rev[tarc_[k]] = Edge(s, base_s + k);
@@ -179,12 +178,10 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
   const auto eidx = get(boost::edge_index, g);
   const auto vidx = get(boost::vertex_index, g);
   const int64_t flow = boost::boykov_kolmogorov_max_flow(
-      g, boost::make_iterator_property_map(cap.begin(), eidx),
-      boost::make_iterator_property_map(res.begin(), eidx),
-      boost::make_iterator_property_map(rev.begin(), eidx),
-      boost::make_iterator_property_map(pred.begin(), vidx),
-      boost::make_iterator_property_map(color.begin(), vidx),
-      boost::make_iterator_property_map(dist.begin(), vidx), vidx, s, t);
+      g, boost::make_iterator_property_map(cap.begin(), eidx), boost::make_iterator_property_map(res.begin(), eidx),
+      boost::make_iterator_property_map(rev.begin(), eidx), boost::make_iterator_property_map(pred.begin(), vidx),
+      boost::make_iterator_property_map(color.begin(), vidx), boost::make_iterator_property_map(dist.begin(), vidx),
+      vidx, s, t);
 
   // Source side = the source tree (black) = vertices reachable from s in the residual graph.
   next_.resize(n);
@@ -194,8 +191,8 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
   const int64_t delta_exact = changeEnergy(labels);
   const int64_t delta_cut = constant + flow - e_cur;
   if (out.truncated == 0 && delta_cut != delta_exact)
-    throw std::logic_error("graph-cut move energy " + std::to_string(delta_cut) +
-                           " differs from direct energy " + std::to_string(delta_exact));
+    throw std::logic_error("graph-cut move energy " + std::to_string(delta_cut) + " differs from direct energy " +
+                           std::to_string(delta_exact));
   if (delta_exact < 0) {
     for (uint32_t k = 0; k < n; ++k) {
       if (next_[k] == cur_[k]) continue;

@@ -18,9 +18,9 @@ std::vector<uint32_t> movableCells(const LabelEnergy& e);
 
 /// Outcome of one move.
 struct MoveOutcome {
-  int64_t delta = 0;           ///< exact energy change applied to the labels (<= 0)
-  int64_t truncated = 0;       ///< pairwise terms raised to make the move submodular
-  bool changed = false;        ///< labels were changed (delta < 0)
+  int64_t delta = 0;      ///< exact energy change applied to the labels (<= 0)
+  int64_t truncated = 0;  ///< pairwise terms raised to make the move submodular
+  bool changed = false;   ///< labels were changed (delta < 0)
 };
 
 /// Reusable buffers for binary moves on one energy; sized once per solve.
@@ -57,7 +57,7 @@ class BinaryMoveSolver {
   std::vector<int64_t> th0_, th1_;
   std::vector<int32_t> arc_dir_;  // variable * 8 + direction -> arc index, -1 if none
   std::vector<uint32_t> tarc_;
-  std::vector<uint32_t> changed_;    // variable -> index of its arc to the source (sink follows)
+  std::vector<uint32_t> changed_;  // variable -> index of its arc to the source (sink follows)
 };
 
 }  // namespace glassmap::mrf::detail

@@ -74,8 +74,7 @@ std::vector<int32_t> psiTable(PsiKind kind, int num_glass_bins) {
 void validate(const LabelEnergy& e) {
   if (e.width <= 0 || e.height <= 0) throw Error("grid size must be positive", {}, 0, "width/height");
   if (e.num_labels < 1 || e.num_labels > 65535) throw Error("label count out of range", {}, 0, "num_labels");
-  if (e.unary.size() != e.cells() * e.num_labels)
-    throw Error("expected cells x labels unary costs", {}, 0, "unary");
+  if (e.unary.size() != e.cells() * e.num_labels) throw Error("expected cells x labels unary costs", {}, 0, "unary");
   if (e.pairwise.size() != static_cast<std::size_t>(e.num_labels) * e.num_labels)
     throw Error("expected labels x labels pairwise costs", {}, 0, "pairwise");
   for (int a = 0; a < e.num_labels; ++a)
@@ -188,8 +187,8 @@ LabelEnergy readInstance(const std::string& path) {
   e.num_labels = static_cast<int>(l);
   const std::size_t expected = 12 + 4 * (e.cells() * l + std::size_t{l} * l);
   if (bytes.size() != expected)
-    throw Error("size " + std::to_string(bytes.size()) + " bytes, header implies " +
-                    std::to_string(expected), path, 0, "unary/pairwise");
+    throw Error("size " + std::to_string(bytes.size()) + " bytes, header implies " + std::to_string(expected), path, 0,
+                "unary/pairwise");
   e.unary.resize(e.cells() * l);
   for (auto& v : e.unary) v = static_cast<int32_t>(get("unary"));
   e.pairwise.resize(std::size_t{l} * l);

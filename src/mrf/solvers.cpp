@@ -1,8 +1,8 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
-#include <ctime>
 #include <cstdlib>
+#include <ctime>
 
 #include "binary_move.hpp"
 #include "glassmap/core/error.hpp"

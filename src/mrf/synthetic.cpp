@@ -17,8 +17,7 @@ struct Rect {
 
 class FloorBuilder {
  public:
-  FloorBuilder(const SyntheticOptions& o, std::vector<uint16_t>& truth)
-      : o_(o), truth_(truth), rng_(o.seed) {}
+  FloorBuilder(const SyntheticOptions& o, std::vector<uint16_t>& truth) : o_(o), truth_(truth), rng_(o.seed) {}
 
   void build() {
     const int w = o_.width, h = o_.height;
@@ -36,8 +35,7 @@ class FloorBuilder {
   bool chance(double p) { return std::uniform_real_distribution<double>(0, 1)(rng_) < p; }
 
   void set(int x, int y, uint16_t l) {
-    if (x >= 0 && y >= 0 && x < o_.width && y < o_.height)
-      truth_[static_cast<std::size_t>(y) * o_.width + x] = l;
+    if (x >= 0 && y >= 0 && x < o_.width && y < o_.height) truth_[static_cast<std::size_t>(y) * o_.width + x] = l;
   }
   void fill(const Rect& r, uint16_t l) {
     for (int y = r.y0; y < r.y1; ++y)
@@ -97,8 +95,8 @@ class FloorBuilder {
       const double cx = (r.x0 + r.x1) / 2.0, cy = (r.y0 + r.y1) / 2.0;
       const uint16_t label = static_cast<uint16_t>(glassLabel((kdir + 18) % kDefaultBins));
       for (double t = -len / 2; t <= len / 2; t += 0.25)
-        set(static_cast<int>(std::floor(cx + t * std::cos(phi))),
-            static_cast<int>(std::floor(cy + t * std::sin(phi))), label);
+        set(static_cast<int>(std::floor(cx + t * std::cos(phi))), static_cast<int>(std::floor(cy + t * std::sin(phi))),
+            label);
     }
   }
 
@@ -186,8 +184,7 @@ SyntheticInstance makeSyntheticInstance(const SyntheticOptions& o, const std::ve
 }
 
 double GlassScore::f1() const {
-  return truth_glass + found_glass == 0 ? 1.0
-                                        : 2.0 * true_positive / double(truth_glass + found_glass);
+  return truth_glass + found_glass == 0 ? 1.0 : 2.0 * true_positive / double(truth_glass + found_glass);
 }
 
 GlassScore scoreGlass(const std::vector<uint16_t>& truth, const std::vector<uint16_t>& labels) {

@@ -68,7 +68,8 @@ std::vector<std::filesystem::path> writeMapFiles(const std::filesystem::path& di
   // Swap in: the old manifest goes first, so an interrupted swap leaves a folder without one.
   fs::remove(dir / kMapManifest, ec);
   if (!(floorplan_files && result.has_floorplan))
-    for (const char* ext : {".gpkg", ".geojson", ".dxf", ".svg", ".png"}) fs::remove(dir / ("floorplan" + std::string(ext)), ec);
+    for (const char* ext : {".gpkg", ".geojson", ".dxf", ".svg", ".png"})
+      fs::remove(dir / ("floorplan" + std::string(ext)), ec);
   std::vector<fs::path> written;
   for (const fs::path& name : names) {
     fs::rename(staging / name, dir / name, ec);

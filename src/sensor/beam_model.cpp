@@ -24,8 +24,7 @@ double BeamModel::probability(const Vec2& origin, const Vec2& dir, double z, dou
   return mix_.probability(z, e, max_range);
 }
 
-double BeamModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
-                                double max_range) const {
+double BeamModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const {
   return std::log(probability(T_map_laser.t, dir, z, max_range));
 }
 

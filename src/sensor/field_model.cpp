@@ -72,8 +72,8 @@ DistanceGrid::DistanceGrid(const VectorMap& map, bool use_glass, double resoluti
 }
 
 float* DistanceGrid::tileOf(int tx, int ty) {
-  std::int32_t& k = tile_index_[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x_) +
-                                static_cast<std::size_t>(tx)];
+  std::int32_t& k =
+      tile_index_[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x_) + static_cast<std::size_t>(tx)];
   if (k < 0) {
     k = static_cast<std::int32_t>(tile_count_++);
     values_.resize(tile_count_ * stride_, static_cast<float>(max_dist_));
@@ -99,8 +99,8 @@ double DistanceGrid::distance(const Vec2& p) const {
   if (!(fx >= 0.0 && fy >= 0.0 && fx < nx_ - 1 && fy < ny_ - 1)) return max_dist_;
   const int i = static_cast<int>(fx), j = static_cast<int>(fy);
   const int tx = i / tile_, ty = j / tile_;
-  const std::int32_t k = tile_index_[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x_) +
-                                     static_cast<std::size_t>(tx)];
+  const std::int32_t k =
+      tile_index_[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x_) + static_cast<std::size_t>(tx)];
   if (k < 0) return max_dist_;
   const double u = fx - i, v = fy - j;
   const float* c = &values_[static_cast<std::size_t>(k) * stride_ +
@@ -129,8 +129,7 @@ FieldModel::FieldModel(const VectorMap& map, const SensorParams& params)
   w_rand_ = params.z_rand / sum;
 }
 
-double FieldModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
-                                 double max_range) const {
+double FieldModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const {
   if (z >= max_range) return std::log(std::max(w_max_, 1e-12));
   const double d = grid_.distance(T_map_laser.t + z * dir);
   const double u = d / sigma_;

@@ -17,8 +17,7 @@ constexpr double kNegligible = 1e-4;
 GlassModel::GlassModel(const VectorMap& map, const SensorParams& params, Variant variant)
     : caster_(map), params_(params), mix_(params), variant_(variant) {}
 
-GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& hit,
-                             double max_range) const {
+GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& hit, double max_range) const {
   GlassModes m;
   m.d_g = hit.range;
   m.theta_deg = rad2deg(hit.incidence);
@@ -40,8 +39,8 @@ GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& 
   if (m.w_refract > kNegligible) {
     // d_real: the straight ray continued through this pane (and up to max_panes - 1 more) to a
     // wall; offset: each pane's elongation, or the fixed per-pane offset when one is set.
-    double offset = params_.offset >= 0 ? params_.offset
-                                        : paneRangeElongation(pane.thickness, hit.incidence, params_.glass_index);
+    double offset =
+        params_.offset >= 0 ? params_.offset : paneRangeElongation(pane.thickness, hit.incidence, params_.glass_index);
     Vec2 o = p;
     double travelled = m.d_g;
     std::int32_t skip = hit.segment;
@@ -54,8 +53,8 @@ GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& 
         break;
       }
       const MapSegment& s = caster_.map().segments[static_cast<std::size_t>(next.segment)];
-      offset += params_.offset >= 0 ? params_.offset
-                                    : paneRangeElongation(s.thickness, next.incidence, params_.glass_index);
+      offset +=
+          params_.offset >= 0 ? params_.offset : paneRangeElongation(s.thickness, next.incidence, params_.glass_index);
       o = o + next.range * dir;
       skip = next.segment;
     }
@@ -63,8 +62,7 @@ GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& 
   return m;
 }
 
-double GlassModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
-                                 double max_range) const {
+double GlassModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const {
   return std::log(probability(T_map_laser.t, dir, z, max_range));
 }
 
@@ -91,8 +89,7 @@ double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, do
       const double hit_density = wd * mix_.hitDensity(z, m.d_g, max_range) +
                                  wn * mix_.hitDensity(z, m.e_normal, max_range) +
                                  wr * mix_.hitDensity(z, m.e_refract, max_range);
-      p = mix_.w_hit * hit_density + mix_.w_short * mix_.shortDensity(z, m.d_g, max_range) +
-          mix_.w_rand / max_range;
+      p = mix_.w_hit * hit_density + mix_.w_short * mix_.shortDensity(z, m.d_g, max_range) + mix_.w_rand / max_range;
     }
     return p;
   }

@@ -19,8 +19,7 @@ GlassAs parseGlassAs(std::string_view s) {
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (lower == "opaque") return GlassAs::Opaque;
   if (lower == "invisible") return GlassAs::Invisible;
-  throw Error("unknown glass treatment '" + std::string(s) + "' (expected opaque or invisible)", {},
-              0, "glass-as");
+  throw Error("unknown glass treatment '" + std::string(s) + "' (expected opaque or invisible)", {}, 0, "glass-as");
 }
 
 BeamSet makeBeamSet(const LaserScan& scan, int count) {
@@ -28,8 +27,7 @@ BeamSet makeBeamSet(const LaserScan& scan, int count) {
   set.max_range = scan.max_range;
   const std::size_t n = scan.ranges.size();
   if (n == 0) return set;
-  const std::size_t k =
-      (count <= 0 || static_cast<std::size_t>(count) >= n) ? n : static_cast<std::size_t>(count);
+  const std::size_t k = (count <= 0 || static_cast<std::size_t>(count) >= n) ? n : static_cast<std::size_t>(count);
   set.angles.reserve(k);
   set.dirs.reserve(k);
   set.ranges.reserve(k);
@@ -57,23 +55,20 @@ double SensorModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams
   return sum;
 }
 
-double SensorModel::beamLogLikelihood(const Pose2& T_map_laser, double angle, double z,
-                                      double max_range) const {
+double SensorModel::beamLogLikelihood(const Pose2& T_map_laser, double angle, double z, double max_range) const {
   const double a = T_map_laser.theta + angle;
   return logLikelihood(T_map_laser, Vec2(std::cos(a), std::sin(a)), z, max_range);
 }
 
 std::vector<std::string> sensorModelNames() { return {"glass", "glass-paper", "beam", "field"}; }
 
-std::unique_ptr<SensorModel> makeSensorModel(std::string_view name, const VectorMap& map,
-                                             const SensorParams& params) {
+std::unique_ptr<SensorModel> makeSensorModel(std::string_view name, const VectorMap& map, const SensorParams& params) {
   if (name == "beam") return std::make_unique<BeamModel>(map, params);
   if (name == "field") return std::make_unique<FieldModel>(map, params);
   if (name == "glass") return std::make_unique<GlassModel>(map, params, GlassModel::Variant::Mixture);
   if (name == "glass-paper") return std::make_unique<GlassModel>(map, params, GlassModel::Variant::Paper);
-  throw Error("unknown sensor model '" + std::string(name) +
-                  "' (expected glass, glass-paper, beam or field)",
-              {}, 0, "model");
+  throw Error("unknown sensor model '" + std::string(name) + "' (expected glass, glass-paper, beam or field)", {}, 0,
+              "model");
 }
 
 }  // namespace glassmap::sensor

@@ -19,8 +19,7 @@ void read(const YAML::Node& node, const char* key, T& value, const std::string& 
   try {
     value = v.as<T>();
   } catch (const YAML::Exception&) {
-    throw Error("expected a value of the right type", file, static_cast<std::size_t>(v.Mark().line + 1),
-                key);
+    throw Error("expected a value of the right type", file, static_cast<std::size_t>(v.Mark().line + 1), key);
   }
 }
 
@@ -50,8 +49,7 @@ LaserSpec laserPreset(const std::string& name) {
     spec.rate = 37.5;
     spec.range_sigma = 0.01;
   } else {
-    throw Error("unknown laser preset '" + name + "' (expected hokuyo-utm30lx or sick-lms200)", {}, 0,
-                "laser.preset");
+    throw Error("unknown laser preset '" + name + "' (expected hokuyo-utm30lx or sick-lms200)", {}, 0, "laser.preset");
   }
   return spec;
 }
@@ -89,8 +87,8 @@ Scene loadScene(const std::filesystem::path& yaml) {
     read(l, "rate", scene.laser.rate, file);
     read(l, "range_sigma", scene.laser.range_sigma, file);
   }
-  if (scene.laser.resolution <= 0 || scene.laser.fov <= 0 || scene.laser.max_range <= 0 ||
-      scene.laser.rate <= 0 || scene.laser.range_sigma < 0)
+  if (scene.laser.resolution <= 0 || scene.laser.fov <= 0 || scene.laser.max_range <= 0 || scene.laser.rate <= 0 ||
+      scene.laser.range_sigma < 0)
     throw Error("laser fov, resolution, max_range and rate must be positive", file, 0, "laser");
 
   const YAML::Node t = root["trajectory"];

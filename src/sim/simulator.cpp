@@ -151,8 +151,7 @@ SimResult simulate(const Scene& scene, const SimOptions& options) {
   if (laser.rate <= 0 || laser.resolution <= 0 || laser.fov <= 0 || laser.max_range <= 0)
     throw Error("laser rate, resolution, field of view and max range must be positive");
   const double dt = 1.0 / laser.rate;
-  std::vector<Pose2> truth =
-      sampleTrajectory(scene.trajectory, dt, options.duration_limit, options.repeat_until_limit);
+  std::vector<Pose2> truth = sampleTrajectory(scene.trajectory, dt, options.duration_limit, options.repeat_until_limit);
   const std::vector<Pose2> untouched = options.kidnap.time >= 0 ? truth : std::vector<Pose2>{};
   const std::size_t kidnapped = applyKidnap(truth, dt, options.kidnap, [&](double seconds) {
     return sampleTrajectory(scene.trajectory, dt, seconds, options.repeat_until_limit);
@@ -207,9 +206,8 @@ SimResult simulate(const Scene& scene, const SimOptions& options) {
         beam.range += laser.range_sigma * gauss(rng);
         if (beam.range >= laser.max_range) beam.outcome = BeamOutcome::MaxRange;
       }
-      scan.ranges[i] = beam.outcome == BeamOutcome::MaxRange
-                           ? static_cast<float>(laser.max_range)
-                           : static_cast<float>(std::max(0.0, beam.range));
+      scan.ranges[i] = beam.outcome == BeamOutcome::MaxRange ? static_cast<float>(laser.max_range)
+                                                             : static_cast<float>(std::max(0.0, beam.range));
       result.outcomes[k][i] = beam.outcome;
     }
     StampedPose& o = result.log.odometry[k];

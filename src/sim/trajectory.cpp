@@ -105,8 +105,7 @@ std::size_t applyKidnap(std::vector<Pose2>& truth, double dt, const Kidnap& kidn
     if (longer.size() <= path.size()) {
       // Driven once: the run ends with the trajectory, shorter by the part skipped.
       if (!reached)
-        throw Error("the kidnapping skips " + std::to_string(kidnap.along) +
-                        " m ahead, past the end of the trajectory",
+        throw Error("the kidnapping skips " + std::to_string(kidnap.along) + " m ahead, past the end of the trajectory",
                     {}, 0, "kidnap-along");
       truth.resize(k);
       truth.insert(truth.end(), path.begin() + static_cast<std::ptrdiff_t>(m), path.end());
@@ -116,8 +115,8 @@ std::size_t applyKidnap(std::vector<Pose2>& truth, double dt, const Kidnap& kidn
   }
 }
 
-std::vector<Pose2> simulateOdometry(const std::vector<Pose2>& truth, const MotionNoise& noise,
-                                    std::mt19937_64& rng, std::size_t teleport) {
+std::vector<Pose2> simulateOdometry(const std::vector<Pose2>& truth, const MotionNoise& noise, std::mt19937_64& rng,
+                                    std::size_t teleport) {
   std::vector<Pose2> odom;
   odom.reserve(truth.size());
   if (truth.empty()) return odom;
@@ -134,10 +133,10 @@ std::vector<Pose2> simulateOdometry(const std::vector<Pose2>& truth, const Motio
     // Random-walk noise: variances grow linearly with the motion, so the error after a path
     // does not depend on the sampling rate.
     const double s_trans = noise.odom_trans_sigma * std::sqrt(trans);
-    const double s_rot1 = std::hypot(noise.odom_rot_sigma * std::sqrt(std::abs(rot1)),
-                                     noise.odom_rot_per_m * std::sqrt(trans / 2));
-    const double s_rot2 = std::hypot(noise.odom_rot_sigma * std::sqrt(std::abs(rot2)),
-                                     noise.odom_rot_per_m * std::sqrt(trans / 2));
+    const double s_rot1 =
+        std::hypot(noise.odom_rot_sigma * std::sqrt(std::abs(rot1)), noise.odom_rot_per_m * std::sqrt(trans / 2));
+    const double s_rot2 =
+        std::hypot(noise.odom_rot_sigma * std::sqrt(std::abs(rot2)), noise.odom_rot_per_m * std::sqrt(trans / 2));
     const double n_trans = trans * (1.0 + noise.odom_scale_bias) + s_trans * gauss(rng);
     const double n_rot1 = rot1 + s_rot1 * gauss(rng);
     const double n_rot2 = rot2 + s_rot2 * gauss(rng) + noise.odom_drift_per_m * trans;

@@ -20,8 +20,8 @@ std::vector<Pose2> sampleTrajectory(const TrajectorySpec& spec, double dt, doubl
 /// Gaussian noise growing with the motion, a scale bias and a heading drift, and integrated.
 /// The step into truth[teleport] (0 = none) is a kidnapping: no motion is recorded for it. The
 /// random draws do not depend on it, so the odometry before a kidnapping equals a run without one.
-std::vector<Pose2> simulateOdometry(const std::vector<Pose2>& truth, const MotionNoise& noise,
-                                    std::mt19937_64& rng, std::size_t teleport = 0);
+std::vector<Pose2> simulateOdometry(const std::vector<Pose2>& truth, const MotionNoise& noise, std::mt19937_64& rng,
+                                    std::size_t teleport = 0);
 
 /// Applies a kidnapping to true poses sampled every dt: returns the index of the first pose after
 /// the jump, and edits `truth` (rigid move of the rest, or a skip ahead along it). `resample(s)`

@@ -3,8 +3,8 @@
 #include "piece.hpp"
 
 #include <algorithm>
-#include <complex>
 #include <cmath>
+#include <complex>
 #include <vector>
 
 #include "box_pairs.hpp"

@@ -21,8 +21,7 @@ std::string lowerExtension(const std::filesystem::path& path) {
 }  // namespace
 
 const std::vector<std::string>& exportFormats() {
-  static const std::vector<std::string> formats = {"gpkg", "geojson", "json", "shp", "fgb",
-                                                   "dxf",  "svg",     "png",  "pdf"};
+  static const std::vector<std::string> formats = {"gpkg", "geojson", "json", "shp", "fgb", "dxf", "svg", "png", "pdf"};
   return formats;
 }
 

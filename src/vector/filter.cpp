@@ -48,8 +48,9 @@ void filterPieces(std::vector<Piece>& pieces, Material material, const MaterialO
     if (!p.alive) continue;
     const double width = std::max(cloud.resolution, p.faces_merged ? cloud.resolution : p.thickness);
     if (p.ids.size() < mo.min_cells || p.length() < mo.min_length || p.length() < mo.min_elongation * width ||
-        (material == Material::Glass && (labelAgreement(p, cloud, mo.max_angle_deg) < mo.min_label_agreement ||
-                                         sideCrowding(p, cloud, ctx.opt.side_crowding_cells) > ctx.opt.max_side_crowding))) {
+        (material == Material::Glass &&
+         (labelAgreement(p, cloud, mo.max_angle_deg) < mo.min_label_agreement ||
+          sideCrowding(p, cloud, ctx.opt.side_crowding_cells) > ctx.opt.max_side_crowding))) {
       p.alive = false;
       ++ctx.stats.dropped;
     }

@@ -110,8 +110,8 @@ std::vector<std::vector<std::uint32_t>> growRegions(const CellCloud& cloud, cons
 
   GridNeighbourQuery neighbours(cloud, params.radius);
   LineRegion region(cloud, params);
-  CGAL::Shape_detection::Region_growing<std::vector<Vec2>, GridNeighbourQuery, LineRegion, decltype(seed_map)>
-      growing(cloud.points, neighbours, region, seed_map);
+  CGAL::Shape_detection::Region_growing<std::vector<Vec2>, GridNeighbourQuery, LineRegion, decltype(seed_map)> growing(
+      cloud.points, neighbours, region, seed_map);
   std::vector<std::vector<std::size_t>> regions;
   growing.detect(std::back_inserter(regions));
   out.reserve(regions.size());

@@ -25,10 +25,10 @@ struct CellCloud {
 
 /// Region growing parameters (see MaterialOptions).
 struct GrowParams {
-  double max_distance = 0.08;  ///< [m]
-  double max_angle_deg = 20.0; ///< [deg]
-  double radius = 0.11;        ///< neighbour radius [m]
-  std::size_t min_region = 3;  ///< smaller regions are left unassigned
+  double max_distance = 0.08;   ///< [m]
+  double max_angle_deg = 20.0;  ///< [deg]
+  double radius = 0.11;         ///< neighbour radius [m]
+  std::size_t min_region = 3;   ///< smaller regions are left unassigned
 };
 
 /// CGAL::Shape_detection::Region_growing over the cloud with a grid neighbour query and a line

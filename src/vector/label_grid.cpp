@@ -16,7 +16,8 @@ double LabelGrid::normalOf(std::uint8_t glass_code) const {
 void LabelGrid::validate() const {
   if (width < 0 || height < 0) throw Error("label grid has a negative size");
   if (!(resolution > 0)) throw Error("label grid resolution must be positive", {}, 0, "resolution");
-  if (!(angle_bin_deg > 0) || angle_bin_deg > 180) throw Error("angle bin must be in (0, 180] degrees", {}, 0, "angle_bin_deg");
+  if (!(angle_bin_deg > 0) || angle_bin_deg > 180)
+    throw Error("angle bin must be in (0, 180] degrees", {}, 0, "angle_bin_deg");
   if (codes.size() != cells())
     throw Error("label grid has " + std::to_string(codes.size()) + " codes for " + std::to_string(width) + " x " +
                 std::to_string(height) + " cells");

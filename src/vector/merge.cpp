@@ -49,8 +49,8 @@ bool unseenGap(const Piece& p, double t, double len, const Context& ctx) {
 
 // Greedy merging of collinear neighbours across gaps up to merge_gap, each merge accepted only when
 // one line explains both cell sets at a lower BIC than two.
-void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material material,
-                    const MaterialOptions& mo, const Context& ctx) {
+void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material material, const MaterialOptions& mo,
+                    const Context& ctx) {
   const double cos_max = std::cos(deg2rad(mo.merge_angle_deg));
   for (bool changed = true; changed;) {
     changed = false;
@@ -59,24 +59,25 @@ void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material
       std::size_t i, j;
     };
     std::vector<Candidate> candidates;
-    forNearbyPairs(pieces, 0.5 * std::max(mo.merge_gap, mo.max_bridge) + mo.merge_offset, [&](std::size_t i, std::size_t j) {
-      const Piece& p = pieces[i];
-      const Piece& q = pieces[j];
-      {
-        if (std::abs(p.d.dot(q.d)) < cos_max) return;
-        const auto [u0, u1] = projectedExtent(p, q);
-        const double gap = std::max(u0 - p.t1, p.t0 - u1);
-        if (gap > mo.max_bridge || (gap > mo.merge_gap && !unseenGap(p, u0 > p.t1 ? p.t1 : u1, gap, ctx))) return;
-        const Vec2 np = p.normal(), nq = q.normal();
-        const double off = std::max({std::abs(np.dot(q.a() - p.c)), std::abs(np.dot(q.b() - p.c)),
-                                     std::abs(nq.dot(p.a() - q.c)), std::abs(nq.dot(p.b() - q.c))});
-        if (off > mo.merge_offset) return;
-        Moments u = p.moments;
-        u += q.moments;
-        const double gain = ctx.bic(p.moments.rss() + q.moments.rss(), u.n, 2) - ctx.bic(u.rss(), u.n, 1);
-        if (gain > 0) candidates.push_back({gain, i, j});
-      }
-    });
+    forNearbyPairs(
+        pieces, 0.5 * std::max(mo.merge_gap, mo.max_bridge) + mo.merge_offset, [&](std::size_t i, std::size_t j) {
+          const Piece& p = pieces[i];
+          const Piece& q = pieces[j];
+          {
+            if (std::abs(p.d.dot(q.d)) < cos_max) return;
+            const auto [u0, u1] = projectedExtent(p, q);
+            const double gap = std::max(u0 - p.t1, p.t0 - u1);
+            if (gap > mo.max_bridge || (gap > mo.merge_gap && !unseenGap(p, u0 > p.t1 ? p.t1 : u1, gap, ctx))) return;
+            const Vec2 np = p.normal(), nq = q.normal();
+            const double off = std::max({std::abs(np.dot(q.a() - p.c)), std::abs(np.dot(q.b() - p.c)),
+                                         std::abs(nq.dot(p.a() - q.c)), std::abs(nq.dot(p.b() - q.c))});
+            if (off > mo.merge_offset) return;
+            Moments u = p.moments;
+            u += q.moments;
+            const double gain = ctx.bic(p.moments.rss() + q.moments.rss(), u.n, 2) - ctx.bic(u.rss(), u.n, 1);
+            if (gain > 0) candidates.push_back({gain, i, j});
+          }
+        });
     std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
       return a.gain > b.gain || (a.gain == b.gain && std::make_pair(a.i, a.j) < std::make_pair(b.i, b.j));
     });

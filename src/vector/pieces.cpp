@@ -3,8 +3,8 @@
 #include "piece.hpp"
 
 #include <algorithm>
-#include <complex>
 #include <cmath>
+#include <complex>
 #include <vector>
 
 #include "glassmap/core/angles.hpp"
@@ -24,7 +24,6 @@ Vec2 meanGlassNormal(const CellCloud& cloud, const std::vector<std::uint32_t>& i
   const double a = 0.5 * std::arg(s);
   return {std::cos(a), std::sin(a)};
 }
-
 
 }  // namespace
 
@@ -69,8 +68,8 @@ void refit(Piece& p, const CellCloud& cloud, Material material, const Context& c
 namespace {
 
 // Splits sorted ids (by position along the line) while two lines beat one by the BIC.
-void bicSplit(std::vector<std::uint32_t> ids, const CellCloud& cloud, const Context& ctx,
-              std::size_t min_cells, std::vector<std::vector<std::uint32_t>>& out) {
+void bicSplit(std::vector<std::uint32_t> ids, const CellCloud& cloud, const Context& ctx, std::size_t min_cells,
+              std::vector<std::vector<std::uint32_t>>& out) {
   const std::size_t n = ids.size();
   const std::size_t k_min = std::max<std::size_t>(min_cells, 3);
   if (n < 2 * k_min) {
@@ -102,8 +101,8 @@ void bicSplit(std::vector<std::uint32_t> ids, const CellCloud& cloud, const Cont
     return;
   }
   ++ctx.stats.bic_splits;
-  bicSplit(std::vector<std::uint32_t>(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(best_k)), cloud,
-           ctx, min_cells, out);
+  bicSplit(std::vector<std::uint32_t>(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(best_k)), cloud, ctx,
+           min_cells, out);
   bicSplit(std::vector<std::uint32_t>(ids.begin() + static_cast<std::ptrdiff_t>(best_k), ids.end()), cloud, ctx,
            min_cells, out);
 }

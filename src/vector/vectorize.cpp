@@ -35,7 +35,7 @@ MaterialOptions VectorizeOptions::wallDefaults() {
   o.min_cells = 8;
   o.min_length = 0.50;
   o.min_elongation = 2.5;
-  o.max_gap = 0.50;    // real walls are seen in patches; doors (0.8 m and up) stay open
+  o.max_gap = 0.50;  // real walls are seen in patches; doors (0.8 m and up) stay open
   o.merge_gap = 0.50;
   o.max_bridge = 2.0;
   o.merge_angle_deg = 6.0;
@@ -74,7 +74,6 @@ std::vector<Piece> fitMaterial(const CellCloud& cloud, Material material, const 
   filterPieces(pieces, material, mo, cloud, ctx);
   return pieces;
 }
-
 
 MapSegment toSegment(const Piece& p, Material material, const CellCloud& cloud, const LabelGrid& grid,
                      const MaterialOptions& mo) {

@@ -33,12 +33,12 @@ SceneRun mapScene(const std::string& name, glass::Method method, std::uint64_t s
   o.method = method;
   const glass::MappingResult m = glass::mapLog(sim.log, o);
   SceneRun r{eval::evaluateCells(scene.map, m.evidence.geometry, m.evidence.label, m.evidence.bins), m.stats};
-  std::printf("%-15s %-9s GT %4zu pred %5zu found %5zu FP %5zu exact %4zu disp %4zu miss %4zu | "
-              "F1@0 %.3f | P@2 %.3f R@2 %.3f F1@2 %.3f | angle %.1f deg\n",
-              name.c_str(), glass::toString(method), r.cells.ground_truth, r.cells.predicted, r.cells.found,
-              r.cells.false_positives, r.cells.exact_found, r.cells.found_displaced, r.cells.not_found,
-              r.cells.exact.f1, r.cells.tolerant.precision, r.cells.tolerant.recall, r.cells.tolerant.f1,
-              r.cells.mean_angle_error_deg);
+  std::printf(
+      "%-15s %-9s GT %4zu pred %5zu found %5zu FP %5zu exact %4zu disp %4zu miss %4zu | "
+      "F1@0 %.3f | P@2 %.3f R@2 %.3f F1@2 %.3f | angle %.1f deg\n",
+      name.c_str(), glass::toString(method), r.cells.ground_truth, r.cells.predicted, r.cells.found,
+      r.cells.false_positives, r.cells.exact_found, r.cells.found_displaced, r.cells.not_found, r.cells.exact.f1,
+      r.cells.tolerant.precision, r.cells.tolerant.recall, r.cells.tolerant.f1, r.cells.mean_angle_error_deg);
   return r;
 }
 

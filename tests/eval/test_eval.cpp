@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "glassmap/eval/cells.hpp"
 #include "glassmap/core/labels.hpp"
+#include "glassmap/eval/cells.hpp"
 
 namespace glassmap::eval {
 namespace {

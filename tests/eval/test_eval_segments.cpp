@@ -21,7 +21,7 @@ MapSegment seg(double ax, double ay, double bx, double by, Material m) {
 VectorMap office() {
   VectorMap m;
   m.segments = {seg(0, 0, 10, 0, Material::Wall), seg(10, 0, 10, 6, Material::Wall), seg(0, 6, 10, 6, Material::Wall),
-                seg(0, 0, 0, 6, Material::Wall), seg(3, 3, 7, 3, Material::Glass), seg(8, 1, 9, 4, Material::Glass)};
+                seg(0, 0, 0, 6, Material::Wall),  seg(3, 3, 7, 3, Material::Glass),  seg(8, 1, 9, 4, Material::Glass)};
   return m;
 }
 
@@ -66,7 +66,7 @@ TEST(EvalSegments, HalfAPaneIsHalfTheRecallAndFullPrecision) {
   const SegmentEvalResult r = evaluateSegments(truth, pred);
   EXPECT_DOUBLE_EQ(r.glass.precision, 1.0);
   EXPECT_NEAR(r.glass.recall, 0.5 + 0.1 / 4.0, 0.006);  // samples within 0.10 m past the end count
-  EXPECT_DOUBLE_EQ(r.wall.f1, 1.0);  // no walls on either side
+  EXPECT_DOUBLE_EQ(r.wall.f1, 1.0);                     // no walls on either side
 }
 
 TEST(EvalSegments, WrongMaterialDoesNotMatch) {

@@ -39,10 +39,10 @@ TEST(EvalTraj, KnownErrorsGiveKnownStatistics) {
 
 TEST(EvalTraj, AssociatesByNearestTimestampWithinTolerance) {
   const auto truth = line(10);
-  std::vector<StampedPose> est{{0.304, Pose2(0.3, 0, 0), 0, 0},   // matches t = 0.3
-                               {0.596, Pose2(0.6, 0, 0), 0, 0},   // matches t = 0.6
-                               {0.55, Pose2(0.0, 0, 0), 0, 0},    // 0.05 s from any truth pose
-                               {5.0, Pose2(0.0, 0, 0), 0, 0}};    // after the truth ends
+  std::vector<StampedPose> est{{0.304, Pose2(0.3, 0, 0), 0, 0},  // matches t = 0.3
+                               {0.596, Pose2(0.6, 0, 0), 0, 0},  // matches t = 0.6
+                               {0.55, Pose2(0.0, 0, 0), 0, 0},   // 0.05 s from any truth pose
+                               {5.0, Pose2(0.0, 0, 0), 0, 0}};   // after the truth ends
   const TrajectoryErrors r = evaluateTrajectory(truth, est);
   EXPECT_EQ(r.matched, 2u);
   EXPECT_EQ(r.unmatched, 2u);

@@ -17,9 +17,8 @@ TEST(LabelRaster, RoundTripKeepsCodesGeometryAndBottomRow) {
   r.height = 3;
   r.resolution = 0.05;
   r.origin = Vec2(-1.25, 2.5);
-  r.codes = {1, 1, 2, 10, 45,   // bottom row
-             0, 0, 0, 0, 0,
-             2, 2, 2, 2, 17};   // top row
+  r.codes = {1, 1, 2, 10, 45,                   // bottom row
+             0, 0, 0, 0,  0,  2, 2, 2, 2, 17};  // top row
   writeLabelRaster(dir / "labels.tif", r);
   const LabelRaster back = readLabelRaster(dir / "labels.tif");
   EXPECT_EQ(back.width, 5);
@@ -30,7 +29,8 @@ TEST(LabelRaster, RoundTripKeepsCodesGeometryAndBottomRow) {
   EXPECT_EQ(back.codes, r.codes);
   // No temporary left behind.
   int files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) files += entry.path().filename().string()[0] == '.';
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    files += entry.path().filename().string()[0] == '.';
   EXPECT_EQ(files, 0);
 }
 

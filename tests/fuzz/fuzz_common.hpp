@@ -20,7 +20,7 @@ namespace glassmap::fuzz {
 inline std::filesystem::path scratchDir() {
   static const std::filesystem::path dir = [] {
     std::filesystem::path base = std::filesystem::exists("/dev/shm") ? std::filesystem::path("/dev/shm")
-                                                                      : std::filesystem::temp_directory_path();
+                                                                     : std::filesystem::temp_directory_path();
     auto d = base / ("glassmap-fuzz-" + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
     return d;

@@ -14,8 +14,7 @@ using namespace glassmap;
 
 namespace {
 
-MapSegment seg(double ax, double ay, double bx, double by, Material m = Material::Wall,
-               double thickness = 0.1) {
+MapSegment seg(double ax, double ay, double bx, double by, Material m = Material::Wall, double thickness = 0.1) {
   MapSegment s;
   s.a = Vec2(ax, ay);
   s.b = Vec2(bx, by);
@@ -73,8 +72,8 @@ void expectSameHit(const RayHit& grid, const RayHit& brute, const std::string& w
 
 std::string describe(const Vec2& o, const Vec2& d, double max_range, int skip) {
   char buf[200];
-  std::snprintf(buf, sizeof buf, "origin (%.17g, %.17g) dir (%.17g, %.17g) max %.17g skip %d",
-                o.x(), o.y(), d.x(), d.y(), max_range, skip);
+  std::snprintf(buf, sizeof buf, "origin (%.17g, %.17g) dir (%.17g, %.17g) max %.17g skip %d", o.x(), o.y(), d.x(),
+                d.y(), max_range, skip);
   return buf;
 }
 
@@ -90,8 +89,7 @@ void compareWithBruteForce(const RayCaster& caster, std::mt19937& rng, int rays)
   for (int i = 0; i < rays; ++i) {
     const int kind = i % 8;
     // Origins: mostly inside the bounds, some outside, some exactly on a segment or endpoint.
-    Vec2 o(box.min().x() + (uni(rng) * 1.4 - 0.2) * size.x(),
-           box.min().y() + (uni(rng) * 1.4 - 0.2) * size.y());
+    Vec2 o(box.min().x() + (uni(rng) * 1.4 - 0.2) * size.x(), box.min().y() + (uni(rng) * 1.4 - 0.2) * size.y());
     int skip = -1;
     if (kind == 1 && !segs.empty()) {
       const auto id = static_cast<int>(rng() % segs.size());
@@ -155,7 +153,7 @@ TEST(RayCaster, MatchesBruteForceOnOfficeFloor) {
 TEST(RayCaster, KnownHitsRangeAndIncidence) {
   VectorMap map;
   map.segments.push_back(seg(5, -5, 5, 5, Material::Glass));  // x = 5
-  map.segments.push_back(seg(10, -10, 10, 10));                // x = 10
+  map.segments.push_back(seg(10, -10, 10, 10));               // x = 10
   const RayCaster caster(map);
   RayHit h = caster.cast(Vec2(0, 0), 0.0, 30.0);
   ASSERT_TRUE(h.hit());
@@ -304,7 +302,7 @@ TEST(Optics, ReflectancePlusTransmittanceIsOne) {
       const Fresnel f = fresnel(th, 1.0, n2);
       EXPECT_NEAR(f.r_s + f.t_s, 1.0, 1e-12) << k;
       EXPECT_NEAR(f.r_p + f.t_p, 1.0, 1e-12) << k;
-      EXPECT_GE(f.r_s, f.r_p - 1e-15) << k;  // s reflects at least as much as p
+      EXPECT_GE(f.r_s, f.r_p - 1e-15) << k;    // s reflects at least as much as p
       const Fresnel g = fresnel(th, n2, 1.0);  // from the dense side, below the critical angle
       if (!g.total_internal_reflection) {
         EXPECT_NEAR(g.r_s + g.t_s, 1.0, 1e-12) << k;
@@ -381,7 +379,7 @@ TEST(Optics, RayThroughPaneIsLongerByTheElongation) {
   const double t = 0.08, n = 1.5;
   VectorMap map;
   map.segments.push_back(seg(5, -60, 5, 60, Material::Glass, t));  // entry face x = 5
-  map.segments.push_back(seg(12, -80, 12, 80));                     // wall parallel to it
+  map.segments.push_back(seg(12, -80, 12, 80));                    // wall parallel to it
   const RayCaster caster(map);
   for (int k = -80; k <= 80; k += 5) {
     const double th = deg2rad(k);

@@ -52,7 +52,7 @@ LaserLog synthLog(const VectorMap& map, std::uint64_t seed) {
       while (hit.hit() && hit.material == Material::Glass) {
         const double p_direct = 0.9 * std::exp(-std::pow(rad2deg(hit.incidence), 2) / (2 * 9.0));
         if (u(rng) < p_direct) break;  // direct return from the pane
-        travelled += hit.range;         // pass through
+        travelled += hit.range;        // pass through
         origin = origin + hit.range * Vec2(std::cos(a), std::sin(a));
         const std::int32_t skip = hit.segment;
         hit = caster.cast(origin, a, scan.max_range - travelled, skip);
@@ -81,9 +81,12 @@ Tally tallyLine(const CellEvidence& e, Vec2 a, Vec2 b, int want_bin) {
     bool right = false, other = false, occ = false;
     for (auto [dx, dy] : {std::pair{0, 0}, {-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
       const int l = e.label[e.geometry.index(c.x + dx, c.y + dy)];
-      if (isGlass(l) && (glassBin(l) == want_bin)) right = true;
-      else if (isGlass(l)) other = true;
-      else if (l == kOccupied) occ = true;
+      if (isGlass(l) && (glassBin(l) == want_bin))
+        right = true;
+      else if (isGlass(l))
+        other = true;
+      else if (l == kOccupied)
+        occ = true;
     }
     ++t.total;
     t.glass_right += right;

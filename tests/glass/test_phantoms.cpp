@@ -18,9 +18,9 @@ namespace {
 VectorMap corridor() {
   VectorMap m;
   auto add = [&](Vec2 a, Vec2 b, Material mat) { m.add(a, b, mat); };
-  add({-1, 3}, {13, 3}, Material::Wall);    // corridor wall
-  add({0, 0}, {12, 0}, Material::Glass);    // the pane
-  add({-1, 0}, {0, 0}, Material::Wall);     // pane frame
+  add({-1, 3}, {13, 3}, Material::Wall);  // corridor wall
+  add({0, 0}, {12, 0}, Material::Glass);  // the pane
+  add({-1, 0}, {0, 0}, Material::Wall);   // pane frame
   add({12, 0}, {13, 0}, Material::Wall);
   add({-1, -2}, {13, -2}, Material::Wall);  // room wall behind the pane
   add({-1, -2}, {-1, 3}, Material::Wall);   // ends
@@ -116,7 +116,8 @@ TEST(MirrorPhantoms, NothingIsClearedWithoutFoldedBeams) {
   const auto& g = mapped.evidence.geometry;
   for (std::size_t i = 0; i < before.size(); ++i)
     if (before[i] != mapped.evidence.label[i])
-      ADD_FAILURE() << "cleared cell at " << (g.origin + (Vec2(i % g.width, i / g.width) + Vec2(0.5, 0.5)) * g.resolution).transpose()
+      ADD_FAILURE() << "cleared cell at "
+                    << (g.origin + (Vec2(i % g.width, i / g.width) + Vec2(0.5, 0.5)) * g.resolution).transpose()
                     << " label " << int(before[i]);
 }
 

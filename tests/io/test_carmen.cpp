@@ -107,16 +107,15 @@ TEST_P(CarmenRealLogs, ParseWithRightCounts) {
   // (Timestamps are not monotonic in every real log: intel steps back four times.)
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Io, CarmenRealLogs,
-    ::testing::Values(RealLog{"intel-corrected.log.gz", 910, 180, 14541, 1.0, 179.0},
-                      RealLog{"freiburg-079-corrected.log.gz", 4791, 360, 9725, 0.5, 179.5},
-                      RealLog{"aces-corrected.log.gz", 440, 180, 7814, 1.0, 179.0}),
-    [](const auto& info) {
-      std::string n = info.param.file;
-      n = n.substr(0, n.find('-'));
-      return n;
-    });
+INSTANTIATE_TEST_SUITE_P(Io, CarmenRealLogs,
+                         ::testing::Values(RealLog{"intel-corrected.log.gz", 910, 180, 14541, 1.0, 179.0},
+                                           RealLog{"freiburg-079-corrected.log.gz", 4791, 360, 9725, 0.5, 179.5},
+                                           RealLog{"aces-corrected.log.gz", 440, 180, 7814, 1.0, 179.0}),
+                         [](const auto& info) {
+                           std::string n = info.param.file;
+                           n = n.substr(0, n.find('-'));
+                           return n;
+                         });
 
 TEST(Carmen, FreiburgMaxRangeFromParam) {
   const auto freiburg = test::realLog("freiburg-079-corrected.log.gz");

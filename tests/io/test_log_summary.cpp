@@ -17,9 +17,9 @@ TEST(IoLogSummary, SyntheticFigures) {
     line += " " + std::to_string(x) + " " + std::to_string(y) + " 0 0 0 0 " + std::to_string(t) + " h 0\n";
     return line;
   };
-  const auto p = dir.write("s.clf", "ODOM 0 0 0 0 0 0 0.5 h 0\n" + scan(181, 0, 0, 1.0, "nan") +
-                                        scan(181, 3, 0, 2.0, "80") + "NEFF 3\n" + scan(361, 3, 4, 1.5, "1") +
-                                        "ODOM 3 4 0 0 0 0 20 h 0\n");
+  const auto p =
+      dir.write("s.clf", "ODOM 0 0 0 0 0 0 0.5 h 0\n" + scan(181, 0, 0, 1.0, "nan") + scan(181, 3, 0, 2.0, "80") +
+                             "NEFF 3\n" + scan(361, 3, 4, 1.5, "1") + "ODOM 3 4 0 0 0 0 20 h 0\n");
   const LogSummary s = summarizeCarmenLog(p);
   EXPECT_EQ(s.scans, 3u);
   EXPECT_EQ(s.beams_min, 181u);

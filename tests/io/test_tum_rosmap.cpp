@@ -66,7 +66,8 @@ OccupancyGridMap sampleGrid() {
   m.resolution = 0.05;
   m.origin = Pose2(-1.25, 3.5, 0.0);
   m.data.resize(28);
-  for (int i = 0; i < 28; ++i) m.data[static_cast<std::size_t>(i)] = static_cast<std::int8_t>(i % 3 == 0 ? -1 : i % 3 == 1 ? 0 : 100);
+  for (int i = 0; i < 28; ++i)
+    m.data[static_cast<std::size_t>(i)] = static_cast<std::int8_t>(i % 3 == 0 ? -1 : i % 3 == 1 ? 0 : 100);
   m.data[0] = 100;  // bottom-left cell occupied: tells the row flip
   return m;
 }
@@ -99,8 +100,9 @@ TEST(RosMap, ReadsMapServerVariants) {
   // ASCII PGM, negate, scale mode, image path relative to the yaml, top image row = top grid row.
   std::filesystem::create_directories(dir / "img");
   dir.write("img/m.pgm", "P2\n# c\n3 2\n255\n0 128 255\n255 255 0\n");
-  dir.write("scale.yaml", "image: img/m.pgm\nresolution: 0.1\norigin: [1.0, 2.0, 0.0]\nnegate: 0\n"
-                          "occupied_thresh: 0.65\nfree_thresh: 0.196\nmode: scale\n");
+  dir.write("scale.yaml",
+            "image: img/m.pgm\nresolution: 0.1\norigin: [1.0, 2.0, 0.0]\nnegate: 0\n"
+            "occupied_thresh: 0.65\nfree_thresh: 0.196\nmode: scale\n");
   const OccupancyGridMap m = readRosMap(dir / "scale.yaml");
   ASSERT_EQ(m.width, 3);
   ASSERT_EQ(m.height, 2);
@@ -112,8 +114,9 @@ TEST(RosMap, ReadsMapServerVariants) {
   const int mid = m.at(1, 1);  // occ = 127/255 = 0.498 -> scaled between free and occupied
   EXPECT_GT(mid, 50);
   EXPECT_LT(mid, 80);
-  dir.write("neg.yaml", "image: img/m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 1\n"
-                        "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  dir.write("neg.yaml",
+            "image: img/m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 1\n"
+            "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
   const OccupancyGridMap n = readRosMap(dir / "neg.yaml");
   EXPECT_EQ(n.at(0, 0), 100);  // white is occupied when negated
   EXPECT_EQ(n.at(1, 1), -1);   // trinary: in between is unknown

@@ -44,9 +44,9 @@ TEST(FloorplanUnits, ImplausibleExtentsAreNamedWithTheUnitsAssumed) {
 
 TEST(FloorplanUnits, TheReaderSaysWhatItAssumed) {
   test::TempDir dir;
-  const auto p = dir.write("plan.geojson",
-                           R"({"type":"FeatureCollection","features":[{"type":"Feature","properties":{"material":"wall"},)"
-                           R"("geometry":{"type":"LineString","coordinates":[[0,0],[4000,0]]}}]})");
+  const auto p = dir.write(
+      "plan.geojson", R"({"type":"FeatureCollection","features":[{"type":"Feature","properties":{"material":"wall"},)"
+                      R"("geometry":{"type":"LineString","coordinates":[[0,0],[4000,0]]}}]})");
   FloorplanUnits u;
   FloorplanReadOptions o;
   o.units = &u;
@@ -66,10 +66,11 @@ namespace {
 
 std::string rectangle(double x0, double y0, double w, double h, const std::string& crs_member = "") {
   char buf[1024];
-  std::snprintf(buf, sizeof buf,
-                R"({"type":"FeatureCollection",%s"features":[{"type":"Feature","properties":{"material":"wall"},)"
-                R"("geometry":{"type":"LineString","coordinates":[[%.9f,%.9f],[%.9f,%.9f],[%.9f,%.9f],[%.9f,%.9f],[%.9f,%.9f]]}}]})",
-                crs_member.c_str(), x0, y0, x0 + w, y0, x0 + w, y0 + h, x0, y0 + h, x0, y0);
+  std::snprintf(
+      buf, sizeof buf,
+      R"({"type":"FeatureCollection",%s"features":[{"type":"Feature","properties":{"material":"wall"},)"
+      R"("geometry":{"type":"LineString","coordinates":[[%.9f,%.9f],[%.9f,%.9f],[%.9f,%.9f],[%.9f,%.9f],[%.9f,%.9f]]}}]})",
+      crs_member.c_str(), x0, y0, x0 + w, y0, x0 + w, y0 + h, x0, y0 + h, x0, y0);
   return buf;
 }
 
@@ -96,10 +97,9 @@ TEST(GeoJsonCrs, ADeclaredCrsIsHonoured) {
   // NAD83 / New York Long Island (US survey feet), old-style crs member.
   test::TempDir dir;
   const double ft = 1200.0 / 3937.0;
-  const auto p = dir.write(
-      "feet.geojson",
-      rectangle(300000, 60000, 40.0 / ft, 20.0 / ft,
-                R"("crs":{"type":"name","properties":{"name":"urn:ogc:def:crs:EPSG::2263"}},)"));
+  const auto p = dir.write("feet.geojson",
+                           rectangle(300000, 60000, 40.0 / ft, 20.0 / ft,
+                                     R"("crs":{"type":"name","properties":{"name":"urn:ogc:def:crs:EPSG::2263"}},)"));
   FloorplanUnits u;
   FloorplanReadOptions o;
   o.units = &u;

@@ -46,14 +46,14 @@ TEST(FreeSpace, AStrayFarAwayAddsOnlyItsNeighbourhood) {
     const std::vector<Vec2> cells = freeCells(m);
     // The building's cells are all there (the box's corner is unchanged, so the same centres),
     // and the stray adds its reach (40 m) around it, not the void between.
-    EXPECT_TRUE(std::includes(cells.begin(), cells.end(), alone.begin(), alone.end(),
-                              [](const Vec2& a, const Vec2& b) { return a.y() < b.y() || (a.y() == b.y() && a.x() < b.x()); }))
-        << far;
+    EXPECT_TRUE(std::includes(cells.begin(), cells.end(), alone.begin(), alone.end(), [](const Vec2& a, const Vec2& b) {
+      return a.y() < b.y() || (a.y() == b.y() && a.x() < b.x());
+    })) << far;
     EXPECT_LT(cells.size(), alone.size() + 1'200'000u) << far;
     EXPECT_GT(std::count_if(cells.begin(), cells.end(), [&](const Vec2& c) { return (c - Vec2(far, far)).norm() < 5; }),
               500);
-    EXPECT_EQ(std::count_if(cells.begin(), cells.end(), [&](const Vec2& c) { return c.x() > 200 && c.x() < far - 100; }),
-              0);
+    EXPECT_EQ(
+        std::count_if(cells.begin(), cells.end(), [&](const Vec2& c) { return c.x() > 200 && c.x() < far - 100; }), 0);
   }
 }
 

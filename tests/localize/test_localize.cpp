@@ -112,8 +112,8 @@ LaserScan scanAt(const sensor::SensorModel& model, const Pose2& pose) {
   s.ranges.resize(271);
   const RayCaster caster(model.map());
   for (std::size_t i = 0; i < s.ranges.size(); ++i) {
-    const double r = caster.castRange(pose.t, Vec2(std::cos(pose.theta + s.beamAngle(i)),
-                                                   std::sin(pose.theta + s.beamAngle(i))), 30.0);
+    const double r = caster.castRange(
+        pose.t, Vec2(std::cos(pose.theta + s.beamAngle(i)), std::sin(pose.theta + s.beamAngle(i))), 30.0);
     s.ranges[i] = std::isfinite(r) ? static_cast<float>(r) : 30.0f;
   }
   return s;

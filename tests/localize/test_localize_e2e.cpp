@@ -17,11 +17,11 @@ struct RunSpec {
   std::string model = "glass";
   sensor::GlassAs glass_as = sensor::GlassAs::Opaque;
   std::uint64_t seed = 1;
-  double duration = 0.0;     // seconds simulated, 0 = the whole trajectory
-  bool global = false;       // no initial pose
+  double duration = 0.0;  // seconds simulated, 0 = the whole trajectory
+  bool global = false;    // no initial pose
   int particles = 500;
   int beams = 15;
-  sim::Kidnap kidnap{};      // none by default
+  sim::Kidnap kidnap{};  // none by default
   std::function<void(sim::Scene&)> tweak;
 };
 
@@ -108,9 +108,9 @@ TEST(LocalizeE2E, GlassModelCopesWithBiasedOdometryAndPeople) {
   for (auto seed : kSeeds) {
     RunSpec r = spec("glass-corridor", seed);
     r.tweak = [](sim::Scene& s) {
-      s.motion.odom_scale_bias = 0.03;             // odometry reads 3 % long
-      s.motion.odom_drift_per_m = deg2rad(2.0);    // and drifts 2 deg per metre
-      s.people.density = 2.0;                      // people walking past in groups of three
+      s.motion.odom_scale_bias = 0.03;           // odometry reads 3 % long
+      s.motion.odom_drift_per_m = deg2rad(2.0);  // and drifts 2 deg per metre
+      s.people.density = 2.0;                    // people walking past in groups of three
       s.people.group_size = 3;
     };
     ok += tracks(runScene(r).errors);

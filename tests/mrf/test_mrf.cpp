@@ -94,9 +94,8 @@ int64_t energyOrderedPairs(const LabelEnergy& e, const std::vector<uint16_t>& la
 }
 
 /// Best energy over every binary move: variable i takes l0[i] or l1[i] (exhaustive).
-int64_t bestMove(const LabelEnergy& e, const std::vector<uint16_t>& labels,
-                 const std::vector<int>& vars, const std::vector<uint16_t>& l0,
-                 const std::vector<uint16_t>& l1) {
+int64_t bestMove(const LabelEnergy& e, const std::vector<uint16_t>& labels, const std::vector<int>& vars,
+                 const std::vector<uint16_t>& l0, const std::vector<uint16_t>& l1) {
   int64_t best = std::numeric_limits<int64_t>::max();
   std::vector<uint16_t> lab = labels;
   for (uint32_t mask = 0; mask < (1U << vars.size()); ++mask) {
@@ -110,13 +109,11 @@ int64_t bestSwap(const LabelEnergy& e, const std::vector<uint16_t>& labels, int 
   std::vector<int> vars;
   for (int c = 0; c < static_cast<int>(e.cells()); ++c)
     if (labels[c] == a || labels[c] == b) vars.push_back(c);
-  return bestMove(e, labels, vars, std::vector<uint16_t>(vars.size(), a),
-                  std::vector<uint16_t>(vars.size(), b));
+  return bestMove(e, labels, vars, std::vector<uint16_t>(vars.size(), a), std::vector<uint16_t>(vars.size(), b));
 }
 
 /// Best expansion of alpha; *representable = no pair term of the move needs truncation.
-int64_t bestExpansion(const LabelEnergy& e, const std::vector<uint16_t>& labels, int alpha,
-                      bool* representable) {
+int64_t bestExpansion(const LabelEnergy& e, const std::vector<uint16_t>& labels, int alpha, bool* representable) {
   std::vector<int> vars;
   std::vector<uint16_t> l0, l1;
   for (int c = 0; c < static_cast<int>(e.cells()); ++c)
@@ -142,9 +139,8 @@ struct Case {
   TestPsi kind;
 };
 
-const Case kCases[] = {{4, 4, 3, TestPsi::Potts},  {4, 4, 3, TestPsi::Random},
-                       {4, 4, 3, TestPsi::Paper},  {3, 3, 5, TestPsi::Potts},
-                       {3, 3, 5, TestPsi::Random}, {3, 3, 5, TestPsi::Paper}};
+const Case kCases[] = {{4, 4, 3, TestPsi::Potts}, {4, 4, 3, TestPsi::Random}, {4, 4, 3, TestPsi::Paper},
+                       {3, 3, 5, TestPsi::Potts}, {3, 3, 5, TestPsi::Random}, {3, 3, 5, TestPsi::Paper}};
 
 MrfOptions untilNoGain() {
   MrfOptions o;
@@ -177,8 +173,7 @@ TEST(MrfEnergy, PaperPsiValues) {
   EXPECT_EQ(e.psi(kEmpty, kOccupied), 0);
   EXPECT_EQ(e.psi(glassLabel(3), glassLabel(3)), 0);
   // Not a metric: the OCC detour is cheaper than the direct glass-glass term.
-  EXPECT_GT(e.psi(glassLabel(0), glassLabel(9)),
-            e.psi(glassLabel(0), kOccupied) + e.psi(kOccupied, glassLabel(9)));
+  EXPECT_GT(e.psi(glassLabel(0), glassLabel(9)), e.psi(glassLabel(0), kOccupied) + e.psi(kOccupied, glassLabel(9)));
   LabelEnergy closed = e;
   closed.pairwise = psiTable(PsiKind::Closed, kDefaultBins);
   EXPECT_EQ(closed.psi(glassLabel(7), kOccupied), 600);

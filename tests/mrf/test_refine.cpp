@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "glassmap/core/error.hpp"
@@ -82,7 +82,8 @@ TEST(MrfRefine, CleansANoisyPaneAndDropsIsolatedGlass) {
       const mrf::RefineResult r = mrf::refine(ev, o);
       EXPECT_GT(r.changed, 0u);
       EXPECT_LT(globalEnergy(ev, o), before) << mrf::toString(solver) << " seed " << seed;
-      for (int x = 6; x <= 41; ++x) EXPECT_EQ(ev.label[24 * 48 + x], glassLabel(0)) << mrf::toString(solver) << " x=" << x;
+      for (int x = 6; x <= 41; ++x)
+        EXPECT_EQ(ev.label[24 * 48 + x], glassLabel(0)) << mrf::toString(solver) << " x=" << x;
       for (int y = 0; y < 20; ++y)
         for (int x = 0; x < 48; ++x) EXPECT_FALSE(isGlass(ev.label[y * 48 + x])) << mrf::toString(solver);
     }

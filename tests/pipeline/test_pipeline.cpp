@@ -152,7 +152,8 @@ TEST(Pipeline, ResultsDoNotDependOnWhereTheFrameOriginLies) {
     EXPECT_LT((r.evidence.geometry.origin - offset - near.evidence.geometry.origin).norm(), 1e-6);
     ASSERT_EQ(r.floorplan.map.segments.size(), near.floorplan.map.segments.size()) << offset.transpose();
     for (std::size_t i = 0; i < near.floorplan.map.segments.size(); ++i) {
-      EXPECT_LT((r.floorplan.map.segments[i].a - offset - near.floorplan.map.segments[i].a).norm(), 1e-3) << offset.transpose() << " segment " << i;
+      EXPECT_LT((r.floorplan.map.segments[i].a - offset - near.floorplan.map.segments[i].a).norm(), 1e-3)
+          << offset.transpose() << " segment " << i;
       EXPECT_LT((r.floorplan.map.segments[i].b - offset - near.floorplan.map.segments[i].b).norm(), 1e-3);
     }
   }

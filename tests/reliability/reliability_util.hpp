@@ -121,9 +121,10 @@ inline std::string geojsonLines(const std::vector<std::array<double, 4>>& segs) 
   std::string s = R"({"type":"FeatureCollection","features":[)";
   char buf[256];
   for (std::size_t i = 0; i < segs.size(); ++i) {
-    std::snprintf(buf, sizeof buf,
-                  R"(%s{"type":"Feature","properties":{"material":"%s"},"geometry":{"type":"LineString","coordinates":[[%.17g,%.17g],[%.17g,%.17g]]}})",
-                  i ? "," : "", i % 2 ? "glass" : "wall", segs[i][0], segs[i][1], segs[i][2], segs[i][3]);
+    std::snprintf(
+        buf, sizeof buf,
+        R"(%s{"type":"Feature","properties":{"material":"%s"},"geometry":{"type":"LineString","coordinates":[[%.17g,%.17g],[%.17g,%.17g]]}})",
+        i ? "," : "", i % 2 ? "glass" : "wall", segs[i][0], segs[i][1], segs[i][2], segs[i][3]);
     s += buf;
   }
   return s + "]}";
@@ -141,7 +142,7 @@ struct RunResult {
 /// this process's CPUs (TBB sizes its thread pool from the affinity mask); `max_file_bytes` caps
 /// every file it writes (the log included), as a full disk would.
 inline pid_t spawnCli(const std::vector<std::string>& args, const fs::path& log, int cpus = 0,
-               rlim_t max_file_bytes = RLIM_INFINITY) {
+                      rlim_t max_file_bytes = RLIM_INFINITY) {
   std::fflush(nullptr);
   const pid_t pid = ::fork();
   if (pid == 0) {
@@ -196,7 +197,6 @@ inline int usableCpus() {
   sched_getaffinity(0, sizeof have, &have);
   return CPU_COUNT(&have);
 }
-
 
 #endif  // GLASSMAP_CLI
 

@@ -108,9 +108,8 @@ TEST(Determinism, SimulateAndMapAreByteIdenticalAcrossRunsAndThreadCounts) {
                                   "--duration", kSanitized ? "4" : "12", "-q"},
                                  n);
     ASSERT_TRUE(sim.exited(0)) << sim.output;
-    const RunResult map = runCli({"map", (dir / ("sim-" + name) / "log.clf").string(), "-o",
-                                  (dir / ("map-" + name)).string(), "-q"},
-                                 n);
+    const RunResult map =
+        runCli({"map", (dir / ("sim-" + name) / "log.clf").string(), "-o", (dir / ("map-" + name)).string(), "-q"}, n);
     ASSERT_TRUE(map.exited(0)) << map.output;
   }
   const std::vector<std::string> sim_files = {"log.clf", "groundtruth.tum", "outcomes.bin"};

@@ -86,14 +86,15 @@ TEST(HostileLog, BeamCountsThatDisagreeWithTheHeaderAreErrors) {
   expectErrorWith([&] { readCarmenLog(dir.write("neg.clf", "FLASER -4 1 1 1 1 1 2 0 1 2 0 5 host 5\n")); },
                   "implausible count");
   // ROBOTLASER1 declaring 3 beams but carrying 2 (and no remission block).
-  const auto rl = dir.write("rl.clf", "ROBOTLASER1 0 -1.57 3.14 0.0174 80 0.01 0 3 1 1 1 2 0 1 2 0 0 0 0 0 0 7 host 7\n");
+  const auto rl =
+      dir.write("rl.clf", "ROBOTLASER1 0 -1.57 3.14 0.0174 80 0.01 0 3 1 1 1 2 0 1 2 0 0 0 0 0 0 7 host 7\n");
   EXPECT_THROW(readCarmenLog(rl), Error);
 }
 
 TEST(HostileLog, ZeroLengthScansAreReadAsEmptyScans) {
   TempDir dir;
-  const auto p = dir.write("z.clf", flaser({}, 1.0) + flaser({"1", "2"}, 2.0) +
-                                        "RAWLASER1 0 -1.57 3.14 0.0174 80 0.01 0 0 0 3 host 3\n");
+  const auto p = dir.write(
+      "z.clf", flaser({}, 1.0) + flaser({"1", "2"}, 2.0) + "RAWLASER1 0 -1.57 3.14 0.0174 80 0.01 0 0 0 3 host 3\n");
   const LaserLog l = readCarmenLog(p);
   ASSERT_EQ(l.scans.size(), 3u);
   EXPECT_TRUE(l.scans[0].ranges.empty());
@@ -105,8 +106,8 @@ TEST(HostileLog, ZeroLengthScansAreReadAsEmptyScans) {
 TEST(HostileLog, TimestampsGoingBackwardsOrRepeatingAreCounted) {
   TempDir dir;
   const std::vector<std::string> r = {"1", "2"};
-  const auto p = dir.write("t.clf", flaser(r, 5.0) + flaser(r, 5.0) + flaser(r, 4.0) + flaser(r, 6.0) +
-                                        flaser(r, 6.0) + flaser(r, 1.0));
+  const auto p = dir.write(
+      "t.clf", flaser(r, 5.0) + flaser(r, 5.0) + flaser(r, 4.0) + flaser(r, 6.0) + flaser(r, 6.0) + flaser(r, 1.0));
   const LaserLog l = readCarmenLog(p);
   ASSERT_EQ(l.scans.size(), 6u);  // kept in file order: mapping uses the poses, not the clock
   EXPECT_EQ(l.stats.backward_timestamps, 2u);
@@ -225,12 +226,12 @@ TEST(HostileTum, NonFiniteValuesAndShortLinesAreErrors) {
 TEST(HostileFloorplan, ZeroLengthDuplicateOverlappingAndEnormousSegments) {
   TempDir dir;
   const std::vector<std::array<double, 4>> segs = {
-      {0, 0, 10, 0},      {0, 0, 10, 0},    // duplicate
-      {2, 0, 8, 0},       {5, 0, 12, 0},    // overlapping the first, collinear
-      {3, 3, 3, 3},                         // zero length
-      {0, 5, 10, 5},      {10, 5, 0, 5},    // the same pane drawn both ways
-      {-1e9, -1e9, 1e9, 1e9},               // enormous diagonal (2.8e9 m)
-      {-1e9, 7, 1e9, 7},                    // enormous horizontal
+      {0, 0, 10, 0},          {0, 0, 10, 0},  // duplicate
+      {2, 0, 8, 0},           {5, 0, 12, 0},  // overlapping the first, collinear
+      {3, 3, 3, 3},                           // zero length
+      {0, 5, 10, 5},          {10, 5, 0, 5},  // the same pane drawn both ways
+      {-1e9, -1e9, 1e9, 1e9},                 // enormous diagonal (2.8e9 m)
+      {-1e9, 7, 1e9, 7},                      // enormous horizontal
   };
   const auto path = dir.write("hostile.geojson", geojsonLines(segs));
   const VectorMap map = readFloorplan(path);
@@ -341,8 +342,9 @@ TEST(HostileFloorplan, MalformedDxfThatHangsGdalIsRefusedQuickly) {
 
 TEST(HostileRosMap, MissingImageIsAnErrorNamingIt) {
   TempDir dir;
-  const auto yaml = dir.write("map.yaml", "image: nowhere.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
-                                          "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  const auto yaml = dir.write("map.yaml",
+                              "image: nowhere.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
+                              "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
   expectErrorWith([&] { readRosMap(yaml); }, "nowhere.pgm");
 }
 
@@ -351,8 +353,9 @@ TEST(HostileRosMap, MissingImageIsAnErrorNamingIt) {
 TEST(HostileRosMap, ImageNameTooLongIsAnErrorNotAnEscapedException) {
   TempDir dir;
   const std::string name(5000, 'm');
-  const auto yaml = dir.write("map.yaml", "image: " + name + ".pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
-                                          "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  const auto yaml = dir.write("map.yaml", "image: " + name +
+                                              ".pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
+                                              "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
   expectErrorWith([&] { readRosMap(yaml); }, "does not exist");
   expectErrorWith([&] { readRosMap(dir / (name + ".yaml")); }, "does not exist");
   expectErrorWith([&] { readFloorplan(dir / (name + ".geojson")); }, "does not exist");
@@ -361,8 +364,9 @@ TEST(HostileRosMap, ImageNameTooLongIsAnErrorNotAnEscapedException) {
 
 TEST(HostileRosMap, ForgedImageSizeIsRefusedBeforeAllocating) {
   TempDir dir;
-  const auto yaml = dir.write("map.yaml", "image: map.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
-                                          "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  const auto yaml = dir.write("map.yaml",
+                              "image: map.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
+                              "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n");
   // 100000 x 100000 declared (10 GB), 4 bytes present.
   dir.write("map.pgm", std::string("P5\n100000 100000\n255\n") + std::string(4, '\0'));
   expectErrorWith([&] { readRosMap(yaml); }, "truncated");

@@ -181,8 +181,8 @@ TEST(InterruptedCli, JsonReportThatCannotBeWrittenIsAnErrorAndLeavesNoFile) {
   EXPECT_FALSE(fs::exists(json));
   EXPECT_TRUE(temporariesIn(dir.path()).empty());
   // Without the cap the same command writes the report.
-  ASSERT_TRUE(runCli({"eval", "traj", "-q", "--truth", truth.string(), truth.string(), "--json", json.string()})
-                  .exited(0));
+  ASSERT_TRUE(
+      runCli({"eval", "traj", "-q", "--truth", truth.string(), truth.string(), "--json", json.string()}).exited(0));
   EXPECT_NE(readBytes(json).find("\"rmse\": 0.0"), std::string::npos) << readBytes(json);
 }
 

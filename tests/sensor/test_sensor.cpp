@@ -59,14 +59,10 @@ struct Case {
 };
 
 std::vector<Case> cases() {
-  return {{"lone wall, normal incidence", loneWall(), 0.0, true},
-          {"nothing within range", loneWall(), kPi, false},
-          {"wall at 40 deg", loneWall(), deg2rad(40.0), false},
-          {"pane at 0 deg", roomWithPane(0.0), 0.0, false},
-          {"pane at 1.5 deg", roomWithPane(1.5), 0.0, false},
-          {"pane at 30 deg", roomWithPane(30.0), 0.0, false},
-          {"pane at 75 deg", roomWithPane(75.0), 0.0, false},
-          {"pane at 85 deg", roomWithPane(85.0), 0.0, false}};
+  return {{"lone wall, normal incidence", loneWall(), 0.0, true}, {"nothing within range", loneWall(), kPi, false},
+          {"wall at 40 deg", loneWall(), deg2rad(40.0), false},   {"pane at 0 deg", roomWithPane(0.0), 0.0, false},
+          {"pane at 1.5 deg", roomWithPane(1.5), 0.0, false},     {"pane at 30 deg", roomWithPane(30.0), 0.0, false},
+          {"pane at 75 deg", roomWithPane(75.0), 0.0, false},     {"pane at 85 deg", roomWithPane(85.0), 0.0, false}};
 }
 
 // Property test over every model and both glass treatments: p(z) integrates to 1 over range.

@@ -121,7 +121,8 @@ TEST(Vectorize, SlightlyOffAxisWallIsSnappedToTheAxes) {
 }
 
 TEST(Vectorize, LOfThickWallsIsTwoSegmentsMeetingAtTheCorner) {
-  const LabelGrid g = gridWith({seg(1.0, 1.0, 5.0, 1.0, Material::Wall, 0.2), seg(1.0, 1.0, 1.0, 4.0, Material::Wall, 0.2)});
+  const LabelGrid g =
+      gridWith({seg(1.0, 1.0, 5.0, 1.0, Material::Wall, 0.2), seg(1.0, 1.0, 1.0, 4.0, Material::Wall, 0.2)});
   const VectorizeResult r = vectorize(g);
   const auto walls = ofMaterial(r.map, Material::Wall);
   ASSERT_EQ(walls.size(), 2u);
@@ -142,7 +143,8 @@ TEST(Vectorize, LOfThickWallsIsTwoSegmentsMeetingAtTheCorner) {
 
 TEST(Vectorize, TwoFacesOfAWallBecomeOneCentreLine) {
   // A 0.25 m wall seen from both sides: two bands of occupied cells, unknown inside.
-  LabelGrid g = gridWith({seg(0.5, 2.0, 5.5, 2.0, Material::Wall, 0.05), seg(0.5, 2.25, 5.5, 2.25, Material::Wall, 0.05)});
+  LabelGrid g =
+      gridWith({seg(0.5, 2.0, 5.5, 2.0, Material::Wall, 0.05), seg(0.5, 2.25, 5.5, 2.25, Material::Wall, 0.05)});
   for (int x = 0; x < g.width; ++x)
     for (int y = 0; y < g.height; ++y) {
       const Vec2 c = g.center(x, y);
@@ -185,20 +187,24 @@ TEST(Vectorize, CollinearPanesMergeAcrossSmallGapsOnly) {
   VectorizeOptions opt;
   ASSERT_DOUBLE_EQ(opt.glass.merge_gap, 0.30);
   {  // 0.1 m gap (a mullion): one segment
-    const LabelGrid g = gridWith({seg(0.5, 2.0, 2.5, 2.0, Material::Glass, 0.01), seg(2.6, 2.0, 5.0, 2.0, Material::Glass, 0.01)});
+    const LabelGrid g =
+        gridWith({seg(0.5, 2.0, 2.5, 2.0, Material::Glass, 0.01), seg(2.6, 2.0, 5.0, 2.0, Material::Glass, 0.01)});
     const auto glass = ofMaterial(vectorize(g, opt).map, Material::Glass);
     ASSERT_EQ(glass.size(), 1u);
     EXPECT_TRUE(sameEnds(glass[0], Vec2(0.5, 2.0), Vec2(5.0, 2.0), 0.08));
   }
   {  // 0.6 m gap, twice the merge gap: two segments
-    const LabelGrid g = gridWith({seg(0.5, 2.0, 2.5, 2.0, Material::Glass, 0.01), seg(3.1, 2.0, 5.0, 2.0, Material::Glass, 0.01)});
+    const LabelGrid g =
+        gridWith({seg(0.5, 2.0, 2.5, 2.0, Material::Glass, 0.01), seg(3.1, 2.0, 5.0, 2.0, Material::Glass, 0.01)});
     const auto glass = ofMaterial(vectorize(g, opt).map, Material::Glass);
     ASSERT_EQ(glass.size(), 2u);
     for (const MapSegment& s : glass)
-      EXPECT_TRUE(sameEnds(s, Vec2(0.5, 2.0), Vec2(2.5, 2.0), 0.08) || sameEnds(s, Vec2(3.1, 2.0), Vec2(5.0, 2.0), 0.08));
+      EXPECT_TRUE(sameEnds(s, Vec2(0.5, 2.0), Vec2(2.5, 2.0), 0.08) ||
+                  sameEnds(s, Vec2(3.1, 2.0), Vec2(5.0, 2.0), 0.08));
   }
   {  // parallel panes 0.3 m apart never merge
-    const LabelGrid g = gridWith({seg(0.5, 2.0, 5.0, 2.0, Material::Glass, 0.01), seg(0.5, 2.3, 5.0, 2.3, Material::Glass, 0.01)});
+    const LabelGrid g =
+        gridWith({seg(0.5, 2.0, 5.0, 2.0, Material::Glass, 0.01), seg(0.5, 2.3, 5.0, 2.3, Material::Glass, 0.01)});
     EXPECT_EQ(ofMaterial(vectorize(g, opt).map, Material::Glass).size(), 2u);
   }
 }

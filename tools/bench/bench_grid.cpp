@@ -17,9 +17,7 @@ namespace {
 using namespace glassmap;
 
 // A 100 m x 100 m floor at 5 cm and random beams of 0.5 to 30 m from inside it.
-grid::GridGeometry floorGrid() {
-  return grid::coveringGeometry(Vec2(0, 0), Vec2(100, 100), 0.05);
-}
+grid::GridGeometry floorGrid() { return grid::coveringGeometry(Vec2(0, 0), Vec2(100, 100), 0.05); }
 
 std::vector<std::pair<Vec2, Vec2>> randomBeams(std::size_t n) {
   std::mt19937 rng(1);
@@ -57,7 +55,10 @@ void BM_TraverseCounts(benchmark::State& state) {
   for (auto _ : state) {
     const auto& [a, b] = beams[n++ & (beams.size() - 1)];
     cells += grid::traverse(g, a, b, [&](int x, int y, double, bool last) {
-      if (last) counts.addHit(x, y); else counts.addMiss(x, y);
+      if (last)
+        counts.addHit(x, y);
+      else
+        counts.addMiss(x, y);
     });
   }
   state.counters["cells/s"] = benchmark::Counter(static_cast<double>(cells), benchmark::Counter::kIsRate);
@@ -80,7 +81,8 @@ void BM_MapFreiburg079(benchmark::State& state) {
   for (auto _ : state) st = glass::mapLog(log, o).stats;
   rusage usage{};
   ::getrusage(RUSAGE_SELF, &usage);
-  state.counters["beams/s"] = benchmark::Counter(static_cast<double>(st.beams * state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["beams/s"] =
+      benchmark::Counter(static_cast<double>(st.beams * state.iterations()), benchmark::Counter::kIsRate);
   state.counters["glass_cells"] = static_cast<double>(st.glass_cells);
   state.counters["bytes/cell"] = st.bytes_per_observed_cell;
   state.counters["peak_MB"] = static_cast<double>(usage.ru_maxrss) / 1024.0;

@@ -37,8 +37,7 @@ void runUpdates(benchmark::State& state, const std::string& model_name) {
   const Fixture& f = fixture();
   const auto particles = static_cast<int>(state.range(0));
   const auto beams = static_cast<int>(state.range(1));
-  tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
-                              static_cast<std::size_t>(state.range(2)));
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(2)));
   sensor::SensorParams sp;
   sp.max_range = f.scene.laser.max_range;
   const auto model = sensor::makeSensorModel(model_name, f.scene.map, sp);
@@ -58,10 +57,11 @@ void runUpdates(benchmark::State& state, const std::string& model_name) {
     k = next;
   }
   state.SetItemsProcessed(state.iterations());
-  state.counters["updates/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-  state.counters["beam evals/s"] = benchmark::Counter(
-      static_cast<double>(state.iterations()) * particles * static_cast<double>(sets[0].size()),
-      benchmark::Counter::kIsRate);
+  state.counters["updates/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["beam evals/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * particles * static_cast<double>(sets[0].size()),
+                         benchmark::Counter::kIsRate);
 }
 
 void BM_Update_glass(benchmark::State& s) { runUpdates(s, "glass"); }
@@ -69,8 +69,18 @@ void BM_Update_glass_paper(benchmark::State& s) { runUpdates(s, "glass-paper"); 
 void BM_Update_beam(benchmark::State& s) { runUpdates(s, "beam"); }
 void BM_Update_field(benchmark::State& s) { runUpdates(s, "field"); }
 
-BENCHMARK(BM_Update_glass)->Args({2500, 61, 1})->Args({2500, 61, 2})->Args({500, 15, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_Update_field)->Args({2500, 61, 1})->Args({2500, 61, 2})->Args({500, 15, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Update_glass)
+    ->Args({2500, 61, 1})
+    ->Args({2500, 61, 2})
+    ->Args({500, 15, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_Update_field)
+    ->Args({2500, 61, 1})
+    ->Args({2500, 61, 2})
+    ->Args({500, 15, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_Update_beam)->Args({2500, 61, 1})->Args({500, 15, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Update_glass_paper)->Args({500, 15, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -154,8 +154,7 @@ void BM_GridScan(benchmark::State& state) {
   std::vector<double> ranges(kBeams);
   for (auto _ : state) {
     for (const Pose2& pose : q.poses) {
-      q.caster.castScan(pose.t, pose.theta - kFov / 2, kFov / (kBeams - 1), kBeams, kMaxRange,
-                        ranges.data());
+      q.caster.castScan(pose.t, pose.theta - kFov / 2, kFov / (kBeams - 1), kBeams, kMaxRange, ranges.data());
       benchmark::DoNotOptimize(ranges.data());
     }
   }
@@ -172,8 +171,7 @@ void BM_GridCellSize(benchmark::State& state) {
   state.counters["cell_m"] = caster.cellSize();
   state.counters["entries"] = static_cast<double>(caster.cellEntries());
 }
-BENCHMARK(BM_GridCellSize)->Arg(50)->Arg(100)->Arg(150)->Arg(200)->Arg(300)->Arg(500)
-    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GridCellSize)->Arg(50)->Arg(100)->Arg(150)->Arg(200)->Arg(300)->Arg(500)->Unit(benchmark::kMillisecond);
 
 // Brute force over all segments: the reference, on the first 100 poses.
 void BM_BruteForce(benchmark::State& state) {
@@ -209,7 +207,12 @@ void BM_GridParallel(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kPoses * kBeams);
   state.counters["threads"] = static_cast<double>(threads);
 }
-BENCHMARK(BM_GridParallel)->Arg(1)->Arg(2)->Arg(4)->UseRealTime()->MeasureProcessCPUTime()
+BENCHMARK(BM_GridParallel)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->UseRealTime()
+    ->MeasureProcessCPUTime()
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -10,8 +10,7 @@ namespace glassmap {
 /// Input or processing error. what() reads "file:line: field: message" with the parts known.
 class Error : public std::runtime_error {
  public:
-  explicit Error(std::string message, std::string file = {}, std::size_t line = 0,
-                 std::string field = {});
+  explicit Error(std::string message, std::string file = {}, std::size_t line = 0, std::string field = {});
 
   const std::string& message() const { return message_; }  ///< the bare message
   const std::string& file() const { return file_; }        ///< input file, empty if none

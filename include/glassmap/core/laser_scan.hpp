@@ -20,16 +20,16 @@ inline constexpr double kAbsurdRange = 1e6;
 
 /// One 2D laser scan. Beam i points at start_angle + i * angular_step in the laser frame.
 struct LaserScan {
-  double timestamp = 0.0;       ///< [s]
-  double start_angle = 0.0;     ///< angle of the first beam in the laser frame [rad]
-  double angular_step = 0.0;    ///< angle between beams [rad]
-  double max_range = 0.0;       ///< sensor maximum range [m]
-  std::vector<float> ranges;    ///< [m]; kNoReturn for no return; >= max_range is a max reading
-  Pose2 laser_pose;             ///< laser pose in the map frame, SLAM-corrected where the log has it
-  Pose2 odom_pose;              ///< robot odometry pose (odometry frame)
-  bool has_odom = false;        ///< odom_pose was present on the line
-  bool has_laser_pose = true;   ///< laser_pose was present on the line (RAWLASERn lines have none)
-  int laser_id = 1;             ///< CARMEN laser number (FLASER = 1, RLASER = 2, RAWLASERn = n)
+  double timestamp = 0.0;      ///< [s]
+  double start_angle = 0.0;    ///< angle of the first beam in the laser frame [rad]
+  double angular_step = 0.0;   ///< angle between beams [rad]
+  double max_range = 0.0;      ///< sensor maximum range [m]
+  std::vector<float> ranges;   ///< [m]; kNoReturn for no return; >= max_range is a max reading
+  Pose2 laser_pose;            ///< laser pose in the map frame, SLAM-corrected where the log has it
+  Pose2 odom_pose;             ///< robot odometry pose (odometry frame)
+  bool has_odom = false;       ///< odom_pose was present on the line
+  bool has_laser_pose = true;  ///< laser_pose was present on the line (RAWLASERn lines have none)
+  int laser_id = 1;            ///< CARMEN laser number (FLASER = 1, RLASER = 2, RAWLASERn = n)
 
   /// Angle of beam i in the laser frame [rad].
   double beamAngle(std::size_t i) const { return start_angle + static_cast<double>(i) * angular_step; }
@@ -39,40 +39,38 @@ struct LaserScan {
     return std::isfinite(r) && r < max_range;
   }
   /// Field of view covered by the beams [rad].
-  double fieldOfView() const {
-    return ranges.empty() ? 0.0 : static_cast<double>(ranges.size() - 1) * angular_step;
-  }
+  double fieldOfView() const { return ranges.empty() ? 0.0 : static_cast<double>(ranges.size() - 1) * angular_step; }
 };
 
 /// A pose record with time (ODOM, TRUEPOS).
 struct StampedPose {
   double timestamp = 0.0;  ///< [s]
   Pose2 pose;
-  double tv = 0.0;         ///< translational velocity [m/s] (ODOM only)
-  double rv = 0.0;         ///< rotational velocity [rad/s] (ODOM only)
+  double tv = 0.0;  ///< translational velocity [m/s] (ODOM only)
+  double rv = 0.0;  ///< rotational velocity [rad/s] (ODOM only)
 };
 
 /// What a reader met while reading.
 struct LogReadStats {
-  std::size_t lines = 0;            ///< lines read
-  std::size_t scans = 0;            ///< scans kept
-  std::size_t skipped_lines = 0;    ///< lines of unknown type, skipped
+  std::size_t lines = 0;                               ///< lines read
+  std::size_t scans = 0;                               ///< scans kept
+  std::size_t skipped_lines = 0;                       ///< lines of unknown type, skipped
   std::map<std::string, std::size_t> skipped_by_type;  ///< unknown line types and their counts
-  std::size_t comment_lines = 0;    ///< '#' and empty lines
-  std::size_t no_return_ranges = 0; ///< non-finite, negative or absurd ranges turned into kNoReturn
-  std::size_t backward_timestamps = 0;  ///< kept scans whose timestamp is below the previous scan's
-  std::size_t repeated_timestamps = 0;  ///< kept scans whose timestamp equals the previous scan's
-  std::size_t odometry = 0;         ///< ODOM records
-  std::size_t true_poses = 0;       ///< TRUEPOS records
-  std::size_t params = 0;           ///< PARAM records
-  std::size_t filtered_scans = 0;   ///< scans dropped by a reader option (laser_id)
+  std::size_t comment_lines = 0;                       ///< '#' and empty lines
+  std::size_t no_return_ranges = 0;                    ///< non-finite, negative or absurd ranges turned into kNoReturn
+  std::size_t backward_timestamps = 0;                 ///< kept scans whose timestamp is below the previous scan's
+  std::size_t repeated_timestamps = 0;                 ///< kept scans whose timestamp equals the previous scan's
+  std::size_t odometry = 0;                            ///< ODOM records
+  std::size_t true_poses = 0;                          ///< TRUEPOS records
+  std::size_t params = 0;                              ///< PARAM records
+  std::size_t filtered_scans = 0;                      ///< scans dropped by a reader option (laser_id)
 };
 
 /// A whole log in memory.
 struct LaserLog {
   std::vector<LaserScan> scans;
-  std::vector<StampedPose> odometry;   ///< ODOM lines
-  std::vector<StampedPose> true_poses; ///< TRUEPOS lines
+  std::vector<StampedPose> odometry;          ///< ODOM lines
+  std::vector<StampedPose> true_poses;        ///< TRUEPOS lines
   std::map<std::string, std::string> params;  ///< PARAM name -> value
   LogReadStats stats;
 };

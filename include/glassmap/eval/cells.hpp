@@ -37,20 +37,19 @@ struct CellEvalResult {
   std::size_t exact_found = 0;
   std::size_t found_displaced = 0;
   std::size_t not_found = 0;
-  std::size_t truth_outside = 0;   ///< true glass cells outside the map's extent (counted as not found)
-  DetectionScores exact;           ///< at 0 cells tolerance
-  DetectionScores tolerant;        ///< at tolerance_cells
-  double paper_recall = 0.0;       ///< the paper's "recall": found / ground truth
-  double paper_precision = 0.0;    ///< the paper's "precision": exact_found / ground truth
+  std::size_t truth_outside = 0;      ///< true glass cells outside the map's extent (counted as not found)
+  DetectionScores exact;              ///< at 0 cells tolerance
+  DetectionScores tolerant;           ///< at tolerance_cells
+  double paper_recall = 0.0;          ///< the paper's "recall": found / ground truth
+  double paper_precision = 0.0;       ///< the paper's "precision": exact_found / ground truth
   double mean_angle_error_deg = 0.0;  ///< mean |pane angle error| of found cells vs nearest true cell [deg]
-  std::size_t angle_cells = 0;     ///< cells in that mean
+  std::size_t angle_cells = 0;        ///< cells in that mean
 };
 
 /// True glass cells: per cell of g the pane-normal direction in [0, pi) [rad], NaN where no glass.
 /// Each glass segment marks every cell it crosses (exact traversal); cells outside g are counted
 /// in *outside if given.
-std::vector<float> rasteriseGlass(const VectorMap& truth, const grid::GridGeometry& g,
-                                  std::size_t* outside = nullptr);
+std::vector<float> rasteriseGlass(const VectorMap& truth, const grid::GridGeometry& g, std::size_t* outside = nullptr);
 
 /// Scores a label grid (glass labels: 2 + k with pane normal at k * 180 / bins deg; see core/labels.hpp).
 CellEvalResult evaluateCells(const VectorMap& truth, const grid::GridGeometry& g,

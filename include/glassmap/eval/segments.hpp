@@ -21,10 +21,10 @@ struct SegmentEvalOptions {
 /// precision = correct predicted length / predicted length (1 when nothing is predicted),
 /// recall = found true length / true length (1 when there is no truth), F1 their harmonic mean.
 struct MaterialScores {
-  double truth_length = 0.0;      ///< [m]
-  double pred_length = 0.0;       ///< [m]
-  double found_length = 0.0;      ///< true length within tolerance of a prediction [m]
-  double correct_length = 0.0;    ///< predicted length within tolerance of the truth [m]
+  double truth_length = 0.0;    ///< [m]
+  double pred_length = 0.0;     ///< [m]
+  double found_length = 0.0;    ///< true length within tolerance of a prediction [m]
+  double correct_length = 0.0;  ///< predicted length within tolerance of the truth [m]
   double precision = 0.0;
   double recall = 0.0;
   double f1 = 0.0;
@@ -34,10 +34,11 @@ struct MaterialScores {
 
 /// Scores of a predicted floorplan.
 struct SegmentEvalResult {
-  double tolerance = 0.10;               ///< [m]
+  double tolerance = 0.10;  ///< [m]
   MaterialScores glass;
   MaterialScores wall;
-  double glass_angle_error_deg = 0.0;    ///< mean direction error of correct predicted glass against the nearest true pane, length-weighted [deg]
+  double glass_angle_error_deg =
+      0.0;  ///< mean direction error of correct predicted glass against the nearest true pane, length-weighted [deg]
   double oversegmentation = 0.0;         ///< predicted glass segments / true glass segments (0 if no truth)
   std::size_t panes_found = 0;           ///< true glass segments with some length found
   double segments_per_found_pane = 0.0;  ///< mean number of predicted glass segments matching a found true pane
@@ -46,6 +47,7 @@ struct SegmentEvalResult {
 
 /// Compares pred against truth. Brute force over segment pairs with box culling: fine for floorplans
 /// of up to a few thousand segments.
-SegmentEvalResult evaluateSegments(const VectorMap& truth, const VectorMap& pred, const SegmentEvalOptions& options = {});
+SegmentEvalResult evaluateSegments(const VectorMap& truth, const VectorMap& pred,
+                                   const SegmentEvalOptions& options = {});
 
 }  // namespace glassmap::eval

@@ -5,9 +5,9 @@
 
 #include <vector>
 
+#include "glassmap/core/laser_scan.hpp"
 #include "glassmap/core/pose2.hpp"
 #include "glassmap/geometry/vector_map.hpp"
-#include "glassmap/core/laser_scan.hpp"
 
 namespace glassmap::eval {
 

@@ -20,8 +20,7 @@ inline Vec2 fromCgal(const CgalPoint2& p) { return {CGAL::to_double(p.x()), CGAL
 /// The segment's endpoints a -> b as a CGAL segment (material and thickness are not carried).
 inline CgalSegment2 toCgal(const MapSegment& s) { return {toCgal(s.a), toCgal(s.b)}; }
 /// A CGAL segment as a MapSegment of the given material and thickness [m].
-inline MapSegment fromCgal(const CgalSegment2& s, Material material = Material::Wall,
-                           double thickness = 0.1) {
+inline MapSegment fromCgal(const CgalSegment2& s, Material material = Material::Wall, double thickness = 0.1) {
   MapSegment m;
   m.a = fromCgal(s.source());
   m.b = fromCgal(s.target());

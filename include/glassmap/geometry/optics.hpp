@@ -29,10 +29,10 @@ double brewsterAngle(double n1 = kAirIndex, double n2 = kGlassIndex);
 
 /// Fraction of power of one interface crossing, by polarisation.
 struct Fresnel {
-  double r_s = 0.0;  ///< reflectance, s-polarised (the paper's "Reflectance", Fig. 4) [-]
-  double r_p = 0.0;  ///< reflectance, p-polarised [-]
-  double t_s = 0.0;  ///< transmittance, s-polarised (the paper's "Transmittance") [-]
-  double t_p = 0.0;  ///< transmittance, p-polarised [-]
+  double r_s = 0.0;                        ///< reflectance, s-polarised (the paper's "Reflectance", Fig. 4) [-]
+  double r_p = 0.0;                        ///< reflectance, p-polarised [-]
+  double t_s = 0.0;                        ///< transmittance, s-polarised (the paper's "Transmittance") [-]
+  double t_p = 0.0;                        ///< transmittance, p-polarised [-]
   bool total_internal_reflection = false;  ///< n1 sin(theta_i) > n2: r = 1, t = 0
   double reflectance() const { return 0.5 * (r_s + r_p); }    ///< unpolarised [-]
   double transmittance() const { return 0.5 * (t_s + t_p); }  ///< unpolarised [-]
@@ -66,8 +66,8 @@ double paneOpticalExcess(double thickness, double theta_i, double n_glass = kGla
 
 /// A beam after crossing a parallel-faced pane.
 struct PaneCrossing {
-  Vec2 exit = Vec2::Zero();   ///< point where the beam leaves the back face [m]
-  double optical_length = 0;  ///< n * path inside the glass: what time-of-flight counts [m]
+  Vec2 exit = Vec2::Zero();     ///< point where the beam leaves the back face [m]
+  double optical_length = 0;    ///< n * path inside the glass: what time-of-flight counts [m]
   double geometric_length = 0;  ///< path inside the glass [m]
 };
 

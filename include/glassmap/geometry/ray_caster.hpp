@@ -21,9 +21,9 @@ namespace glassmap {
 /// What a ray hit first.
 struct RayHit {
   double range = std::numeric_limits<double>::infinity();  ///< distance to the hit [m]
-  std::int32_t segment = -1;     ///< index into VectorMap::segments, -1 if no hit
+  std::int32_t segment = -1;                               ///< index into VectorMap::segments, -1 if no hit
   Material material = Material::Wall;
-  double incidence = 0.0;        ///< angle between ray and surface normal, [0, pi/2] [rad]
+  double incidence = 0.0;  ///< angle between ray and surface normal, [0, pi/2] [rad]
   bool hit() const { return segment >= 0; }
 };
 
@@ -39,30 +39,24 @@ class RayCaster {
 
   /// First segment hit by the ray origin + s * (cos angle, sin angle), 0 < s <= max_range [m].
   /// `skip` is a segment id to ignore (the surface a continued ray starts on), -1 for none.
-  RayHit cast(const Vec2& origin, double angle, double max_range,
-              std::int32_t skip = -1) const;
+  RayHit cast(const Vec2& origin, double angle, double max_range, std::int32_t skip = -1) const;
 
   /// Same as cast(origin, angle, ...) with a precomputed unit direction `dir` (no sin/cos).
-  RayHit cast(const Vec2& origin, const Vec2& dir, double max_range,
-              std::int32_t skip = -1) const;
+  RayHit cast(const Vec2& origin, const Vec2& dir, double max_range, std::int32_t skip = -1) const;
 
   /// Range only [m] of the first hit along unit direction `dir`; +infinity when nothing is hit
   /// within max_range. The fastest entry point (no incidence angle, no material).
-  double castRange(const Vec2& origin, const Vec2& dir, double max_range,
-                   std::int32_t skip = -1) const;
+  double castRange(const Vec2& origin, const Vec2& dir, double max_range, std::int32_t skip = -1) const;
 
   /// A scan: `count` beams at angles start_angle + k * step [rad]; writes each beam's first-hit
   /// range [m] to ranges[k], or `max_range` when nothing is hit. Directions come from one
   /// sin/cos and a rotation recurrence (relative error ~1e-15 per beam).
-  void castScan(const Vec2& origin, double start_angle, double step, int count,
-                double max_range, double* ranges) const;
+  void castScan(const Vec2& origin, double start_angle, double step, int count, double max_range, double* ranges) const;
 
   /// Same as cast() by testing every segment: the reference for tests.
-  RayHit castBruteForce(const Vec2& origin, double angle, double max_range,
-                        std::int32_t skip = -1) const;
+  RayHit castBruteForce(const Vec2& origin, double angle, double max_range, std::int32_t skip = -1) const;
   /// castBruteForce with a precomputed unit direction.
-  RayHit castBruteForce(const Vec2& origin, const Vec2& dir, double max_range,
-                        std::int32_t skip = -1) const;
+  RayHit castBruteForce(const Vec2& origin, const Vec2& dir, double max_range, std::int32_t skip = -1) const;
 
   const VectorMap& map() const { return map_; }
   double cellSize() const { return cell_; }
@@ -78,12 +72,9 @@ class RayCaster {
     std::int32_t id;
   };
   template <bool kSkip>
-  Best walk(double ox, double oy, double ux, double uy, double max_range,
-            std::int32_t skip) const;
-  Best walk(double ox, double oy, double ux, double uy, double max_range,
-            std::int32_t skip) const;
-  Best brute(double ox, double oy, double ux, double uy, double max_range,
-             std::int32_t skip) const;
+  Best walk(double ox, double oy, double ux, double uy, double max_range, std::int32_t skip) const;
+  Best walk(double ox, double oy, double ux, double uy, double max_range, std::int32_t skip) const;
+  Best brute(double ox, double oy, double ux, double uy, double max_range, std::int32_t skip) const;
   RayHit finish(const Best& best, double ux, double uy) const;
 
   VectorMap map_;
@@ -95,9 +86,9 @@ class RayCaster {
   struct alignas(16) SegPair {
     double ax[2], ay[2], dx[2], dy[2];
   };
-  std::vector<Seg> segs_;         // indexed by segment id (zero-length ones never enter cells)
-  std::vector<Material> materials_;  // indexed by segment id
-  std::vector<SegPair> items_;    // CSR payload: copies of each cell's segments, two by two
+  std::vector<Seg> segs_;                  // indexed by segment id (zero-length ones never enter cells)
+  std::vector<Material> materials_;        // indexed by segment id
+  std::vector<SegPair> items_;             // CSR payload: copies of each cell's segments, two by two
   std::vector<std::uint32_t> cell_items_;  // CSR payload: segment id of each lane (2 per pair)
   std::vector<std::uint32_t> cell_start_;  // CSR: cell -> [start, end) pairs in items_
   double cell_ = 1.0;

@@ -25,14 +25,14 @@ Material parseMaterial(std::string_view s);
 /// (Stored as plain doubles, the layout of CGAL's Epick Segment_2; see geometry/cgal.hpp
 /// for the conversion used by the stages that run CGAL algorithms.)
 struct MapSegment {
-  Vec2 a = Vec2::Zero();             ///< first endpoint [m]
-  Vec2 b = Vec2::Zero();             ///< second endpoint [m]
+  Vec2 a = Vec2::Zero();  ///< first endpoint [m]
+  Vec2 b = Vec2::Zero();  ///< second endpoint [m]
   Material material = Material::Wall;
-  double thickness = 0.1;            ///< pane or wall thickness [m]
+  double thickness = 0.1;  ///< pane or wall thickness [m]
   // Optional attributes filled by the vector stage (zero when unknown).
-  double pane_angle = 0.0;           ///< pane normal direction in [0, pi) [rad]
-  std::uint32_t support = 0;         ///< supporting grid cells
-  double evidence = 0.0;             ///< mean per-cell evidence
+  double pane_angle = 0.0;    ///< pane normal direction in [0, pi) [rad]
+  std::uint32_t support = 0;  ///< supporting grid cells
+  double evidence = 0.0;      ///< mean per-cell evidence
 
   double length() const { return (b - a).norm(); }
   /// Unit direction a -> b (undefined for zero length).

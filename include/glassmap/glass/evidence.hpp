@@ -20,12 +20,12 @@ namespace glassmap::glass {
 ///   ascending order; `cost[i * num_labels + l]` is the cost of label l at cells[i]: a negative log
 ///   posterior [nats] (capped at kMaxCost), so exp(-cost) sums to 1 over the labels of a cell.
 struct CellEvidence {
-  grid::GridGeometry geometry;     ///< resolution, origin, width, height
-  int bins = kDefaultBins;         ///< angle bins; num_labels = 2 + bins
-  int num_labels = numLabels();    ///< labels per cell (38 by default)
-  std::vector<std::uint8_t> label; ///< [cell] label, dense
+  grid::GridGeometry geometry;       ///< resolution, origin, width, height
+  int bins = kDefaultBins;           ///< angle bins; num_labels = 2 + bins
+  int num_labels = numLabels();      ///< labels per cell (38 by default)
+  std::vector<std::uint8_t> label;   ///< [cell] label, dense
   std::vector<std::uint32_t> cells;  ///< candidate cells, ascending linear indices
-  std::vector<float> cost;         ///< [i * num_labels + l] for candidate i
+  std::vector<float> cost;           ///< [i * num_labels + l] for candidate i
 
   static constexpr float kMaxCost = 50.0f;  ///< cap of a cost [nats]
 

@@ -25,9 +25,9 @@ inline constexpr double kDenseBytesPerCell = 16.0;
 
 /// Everything mapLog needs.
 struct MappingOptions {
-  double resolution = 0.05;          ///< cell size [m]
-  double angle_bin_deg = 5.0;        ///< incidence-angle bin width [deg]; must divide 180
-  double margin = 1.0;               ///< grid margin around what was seen [m]
+  double resolution = 0.05;    ///< cell size [m]
+  double angle_bin_deg = 5.0;  ///< incidence-angle bin width [deg]; must divide 180
+  double margin = 1.0;         ///< grid margin around what was seen [m]
   /// Refuse, before allocating, a grid whose dense per-cell layers (labels, rasters, images,
   /// vectorisation) would need more than this [bytes]; see kDenseBytesPerCell.
   std::size_t max_memory_bytes = std::size_t{4} << 30;
@@ -40,19 +40,19 @@ struct MappingOptions {
 
 /// What mapLog did: counts, sizes, times.
 struct MappingStats {
-  std::size_t scans = 0;              ///< scans integrated
-  std::size_t beams = 0;              ///< beams traversed (per pass)
-  std::size_t hit_beams = 0;          ///< beams that ended in a hit
-  std::size_t cells_traversed = 0;    ///< cell visits of the occupancy pass
-  std::size_t observed_cells = 0;     ///< cells some beam touched
-  std::size_t candidate_cells = 0;    ///< cells with per-angle histograms (some beam ended there)
-  std::size_t glass_cells = 0;        ///< cells labelled glass
-  std::size_t occupied_cells = 0;     ///< cells labelled OCC
-  std::size_t state_bytes = 0;        ///< counts + histograms + sigmoid sums [bytes]
+  std::size_t scans = 0;                 ///< scans integrated
+  std::size_t beams = 0;                 ///< beams traversed (per pass)
+  std::size_t hit_beams = 0;             ///< beams that ended in a hit
+  std::size_t cells_traversed = 0;       ///< cell visits of the occupancy pass
+  std::size_t observed_cells = 0;        ///< cells some beam touched
+  std::size_t candidate_cells = 0;       ///< cells with per-angle histograms (some beam ended there)
+  std::size_t glass_cells = 0;           ///< cells labelled glass
+  std::size_t occupied_cells = 0;        ///< cells labelled OCC
+  std::size_t state_bytes = 0;           ///< counts + histograms + sigmoid sums [bytes]
   double bytes_per_observed_cell = 0.0;  ///< state_bytes / observed_cells
-  double seconds_counts = 0.0;        ///< occupancy pass [s]
-  double seconds_angles = 0.0;        ///< per-angle (and sigmoid) pass [s]
-  double seconds_classify = 0.0;      ///< classification [s]
+  double seconds_counts = 0.0;           ///< occupancy pass [s]
+  double seconds_angles = 0.0;           ///< per-angle (and sigmoid) pass [s]
+  double seconds_classify = 0.0;         ///< classification [s]
 };
 
 /// The outcome of mapping one log.

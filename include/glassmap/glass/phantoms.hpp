@@ -19,9 +19,9 @@ namespace glassmap::glass {
 
 /// Parameters of the phantom test.
 struct PhantomOptions {
-  double glass_margin = 0.15;     ///< the pane must be crossed at least this far before the reading [m]
-  double block_margin = 0.30;     ///< ...and then a wall whose line lies at least this far from the
-                                  ///< reading [m] (a grazed frame or corner does not block)
+  double glass_margin = 0.15;        ///< the pane must be crossed at least this far before the reading [m]
+  double block_margin = 0.30;        ///< ...and then a wall whose line lies at least this far from the
+                                     ///< reading [m] (a grazed frame or corner does not block)
   double min_folded_fraction = 0.5;  ///< a cell is a phantom when at least this share of its returns
                                      ///< is folded
 };
@@ -36,7 +36,7 @@ struct PhantomStats {
 /// Relabels as kUnknown the wall and glass cells of `evidence` whose returns are mostly folded
 /// (see above), using the beams of `log` as the mapping used them. Works on any labelling (after
 /// the classifier or after the MRF); does nothing when the map holds no glass.
-PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions& beams,
-                                    const PhantomOptions& options, CellEvidence& evidence);
+PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions& beams, const PhantomOptions& options,
+                                    CellEvidence& evidence);
 
 }  // namespace glassmap::glass

@@ -47,8 +47,14 @@ class AngleHistograms {
   std::uint16_t* misses(std::int32_t id) { return hits(id) + bins_; }
   const std::uint16_t* misses(std::int32_t id) const { return hits(id) + bins_; }
 
-  void addHit(std::int32_t id, int bin) { auto& c = hits(id)[bin]; if (c != 0xFFFF) ++c; }
-  void addMiss(std::int32_t id, int bin) { auto& c = misses(id)[bin]; if (c != 0xFFFF) ++c; }
+  void addHit(std::int32_t id, int bin) {
+    auto& c = hits(id)[bin];
+    if (c != 0xFFFF) ++c;
+  }
+  void addMiss(std::int32_t id, int bin) {
+    auto& c = misses(id)[bin];
+    if (c != 0xFFFF) ++c;
+  }
 
   /// Counts for one thread of a parallel pass: a zeroed array shaped like this one's histograms,
   /// filled with addHit/addMiss(counts, ...) and added back with merge(). Saturating throughout,

@@ -18,10 +18,10 @@ struct CellIndex {
 
 /// Cell size, origin (map-frame position of the lower-left corner of cell (0, 0)) and extent.
 struct GridGeometry {
-  double resolution = 0.05;     ///< cell size [m]
-  Vec2 origin = Vec2::Zero();   ///< lower-left corner of cell (0, 0) in the map frame [m]
-  int width = 0;                ///< cells along x
-  int height = 0;               ///< cells along y
+  double resolution = 0.05;    ///< cell size [m]
+  Vec2 origin = Vec2::Zero();  ///< lower-left corner of cell (0, 0) in the map frame [m]
+  int width = 0;               ///< cells along x
+  int height = 0;              ///< cells along y
 
   std::size_t cells() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
   bool contains(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height; }
@@ -33,7 +33,8 @@ struct GridGeometry {
   std::size_t index(const CellIndex& c) const { return index(c.x, c.y); }
   /// Cell of linear index i.
   CellIndex cellOf(std::size_t i) const {
-    return {static_cast<int>(i % static_cast<std::size_t>(width)), static_cast<int>(i / static_cast<std::size_t>(width))};
+    return {static_cast<int>(i % static_cast<std::size_t>(width)),
+            static_cast<int>(i / static_cast<std::size_t>(width))};
   }
   /// Cell containing map-frame point p (may lie outside the grid).
   CellIndex cellAt(const Vec2& p) const {
@@ -41,9 +42,7 @@ struct GridGeometry {
             static_cast<int>(std::floor((p.y() - origin.y()) / resolution))};
   }
   /// Map-frame centre of cell (x, y) [m].
-  Vec2 center(int x, int y) const {
-    return origin + Vec2((x + 0.5) * resolution, (y + 0.5) * resolution);
-  }
+  Vec2 center(int x, int y) const { return origin + Vec2((x + 0.5) * resolution, (y + 0.5) * resolution); }
   /// Map-frame upper-right corner of the grid [m].
   Vec2 maxCorner() const { return origin + Vec2(width * resolution, height * resolution); }
 };

@@ -22,10 +22,10 @@ struct CellCounts {
 /// misses * l_miss, clamped to [l_min, l_max]. Summing counts then clamping once makes the map
 /// independent of beam order. Defaults are OctoMap's (p_hit 0.7, p_miss 0.4, clamp 0.12 / 0.97).
 struct OccupancyModel {
-  double l_hit = 0.847;   ///< log-odds added by a hit (p = 0.7)
-  double l_miss = -0.405; ///< log-odds added by a miss (p = 0.4)
-  double l_min = -1.992;  ///< lower clamp (p = 0.12)
-  double l_max = 3.476;   ///< upper clamp (p = 0.97)
+  double l_hit = 0.847;     ///< log-odds added by a hit (p = 0.7)
+  double l_miss = -0.405;   ///< log-odds added by a miss (p = 0.4)
+  double l_min = -1.992;    ///< lower clamp (p = 0.12)
+  double l_max = 3.476;     ///< upper clamp (p = 0.97)
   double l_occupied = 0.0;  ///< a cell with l > l_occupied counts as occupied (p > 0.5)
 
   double logOdds(const CellCounts& c) const;
@@ -36,7 +36,7 @@ struct OccupancyModel {
 /// Tiled sparse grid of CellCounts over a GridGeometry.
 class HitMissGrid {
  public:
-  static constexpr int kTileBits = 5;                 ///< tiles of 32 x 32 cells
+  static constexpr int kTileBits = 5;  ///< tiles of 32 x 32 cells
   static constexpr int kTileSize = 1 << kTileBits;
   static constexpr int kTileCells = kTileSize * kTileSize;
 
@@ -56,8 +56,14 @@ class HitMissGrid {
     const auto& tile = tiles_[tileIndex(x, y)];
     return tile ? tile[((y & (kTileSize - 1)) << kTileBits) | (x & (kTileSize - 1))] : CellCounts{};
   }
-  void addHit(int x, int y) { auto& c = at(x, y); if (c.hits != 0xFFFF) ++c.hits; }
-  void addMiss(int x, int y) { auto& c = at(x, y); if (c.misses != 0xFFFF) ++c.misses; }
+  void addHit(int x, int y) {
+    auto& c = at(x, y);
+    if (c.hits != 0xFFFF) ++c.hits;
+  }
+  void addMiss(int x, int y) {
+    auto& c = at(x, y);
+    if (c.misses != 0xFFFF) ++c.misses;
+  }
 
   /// Adds other's counts (same geometry) cell by cell, saturating like addHit/addMiss: a grid
   /// filled in parts and merged equals one filled in one go, whatever the order.

@@ -5,25 +5,24 @@
 #include <cmath>
 #include <functional>
 
+#include "glassmap/core/laser_scan.hpp"
 #include "glassmap/grid/angle_histograms.hpp"
 #include "glassmap/grid/hit_miss_grid.hpp"
-#include "glassmap/core/laser_scan.hpp"
 
 namespace glassmap::grid {
 
 /// How readings become beams.
 struct BeamOptions {
-  double range_cap = 30.0;      ///< beams are used up to this range [m]; longer returns and
-                                ///< max-range readings clear free space up to here, with no hit
-  double min_range = 0.05;      ///< readings below this are dropped (sensor dead zone) [m]
-  bool clear_no_return = true;  ///< no-return and max-range readings clear free space (to the cap)
-  double no_return_range = 0.0; ///< ...but only up to this range [m]; 0: range_cap (real SICK logs
-                                ///< report glass, black and far surfaces as max range: use ~8 m)
-  double miss_margin = 0.1;     ///< a returned beam adds no miss to cells it enters within this
-                                ///< distance before its reading [m]: grazing beams along a thin wall
-                                ///< would otherwise clear the wall's own cells
+  double range_cap = 30.0;       ///< beams are used up to this range [m]; longer returns and
+                                 ///< max-range readings clear free space up to here, with no hit
+  double min_range = 0.05;       ///< readings below this are dropped (sensor dead zone) [m]
+  bool clear_no_return = true;   ///< no-return and max-range readings clear free space (to the cap)
+  double no_return_range = 0.0;  ///< ...but only up to this range [m]; 0: range_cap (real SICK logs
+                                 ///< report glass, black and far surfaces as max range: use ~8 m)
+  double miss_margin = 0.1;      ///< a returned beam adds no miss to cells it enters within this
+                                 ///< distance before its reading [m]: grazing beams along a thin wall
+                                 ///< would otherwise clear the wall's own cells
 };
-
 
 /// One beam as a segment in the map frame.
 struct Beam {
@@ -63,15 +62,14 @@ void forEachBeam(const LaserScan& scan, const BeamOptions& options, Fn&& fn) {
 }
 
 /// A grid covering every laser position and beam segment of the log, plus margin [m].
-GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOptions& options,
-                            double margin = 1.0);
+GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOptions& options, double margin = 1.0);
 
 /// What a pass over a log did.
 struct IntegrationStats {
-  std::size_t scans = 0;           ///< scans integrated
-  std::size_t beams = 0;           ///< beams traversed
-  std::size_t hit_beams = 0;       ///< beams ending in a hit
-  std::size_t cells_traversed = 0; ///< cell visits (hits + misses)
+  std::size_t scans = 0;            ///< scans integrated
+  std::size_t beams = 0;            ///< beams traversed
+  std::size_t hit_beams = 0;        ///< beams ending in a hit
+  std::size_t cells_traversed = 0;  ///< cell visits (hits + misses)
 };
 
 /// Progress callback: fraction done in [0, 1].
@@ -82,7 +80,7 @@ IntegrationStats integrateCounts(const LaserLog& log, const BeamOptions& options
                                  const Progress& progress = {});
 
 /// Pass 2: the same beams into the per-angle histograms of the candidate cells.
-IntegrationStats integrateAngles(const LaserLog& log, const BeamOptions& options,
-                                 AngleHistograms& histograms, const Progress& progress = {});
+IntegrationStats integrateAngles(const LaserLog& log, const BeamOptions& options, AngleHistograms& histograms,
+                                 const Progress& progress = {});
 
 }  // namespace glassmap::grid

@@ -25,8 +25,8 @@ struct CarmenReadOptions {
 /// Callbacks of the streaming reader; any may be empty. A scan is handed over by rvalue: move from it.
 struct CarmenCallbacks {
   std::function<void(LaserScan&&)> on_scan;
-  std::function<void(const StampedPose&)> on_odometry;   ///< ODOM lines
-  std::function<void(const StampedPose&)> on_true_pose;  ///< TRUEPOS lines (the true pose)
+  std::function<void(const StampedPose&)> on_odometry;                              ///< ODOM lines
+  std::function<void(const StampedPose&)> on_true_pose;                             ///< TRUEPOS lines (the true pose)
   std::function<void(const std::string& name, const std::string& value)> on_param;  ///< PARAM lines
 };
 

@@ -33,8 +33,8 @@ struct FloorplanUnits {
 
 /// Options of readFloorplan.
 struct FloorplanReadOptions {
-  double unit_in_metres = 0.0;  ///< metres per file unit; 0: from the file (CRS linear units, DXF
-                                ///< $INSUNITS; metres when the file declares none)
+  double unit_in_metres = 0.0;      ///< metres per file unit; 0: from the file (CRS linear units, DXF
+                                    ///< $INSUNITS; metres when the file declares none)
   FloorplanUnits* units = nullptr;  ///< if set, receives what was assumed
 };
 

@@ -12,10 +12,10 @@ namespace glassmap {
 
 /// A label-code raster. Row 0 is the BOTTOM row (as OccupancyGridMap); the file stores it north-up.
 struct LabelRaster {
-  int width = 0;               ///< cells along x
-  int height = 0;              ///< cells along y
-  double resolution = 0.05;    ///< cell size [m]
-  Vec2 origin = Vec2::Zero();  ///< lower-left corner of cell (0, 0) in the map frame [m]
+  int width = 0;                    ///< cells along x
+  int height = 0;                   ///< cells along y
+  double resolution = 0.05;         ///< cell size [m]
+  Vec2 origin = Vec2::Zero();       ///< lower-left corner of cell (0, 0) in the map frame [m]
   std::vector<std::uint8_t> codes;  ///< width * height codes, index = row * width + col
 };
 

@@ -28,7 +28,6 @@ struct FloorplanPicture {
 };
 
 /// Writes a PNG or SVG (from the extension) of the floorplan, atomically.
-void renderFloorplan(const std::filesystem::path& out, const VectorMap& map,
-                     const FloorplanPicture& picture = {});
+void renderFloorplan(const std::filesystem::path& out, const VectorMap& map, const FloorplanPicture& picture = {});
 
 }  // namespace glassmap

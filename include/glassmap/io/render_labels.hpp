@@ -10,15 +10,17 @@ namespace glassmap {
 
 /// How to draw.
 struct LabelRenderOptions {
-  int scale = 0;   ///< pixels per cell; 0 picks 1..4 so the picture is about 1000+ px wide
+  int scale = 0;  ///< pixels per cell; 0 picks 1..4 so the picture is about 1000+ px wide
 };
 
 /// RGB colour of a label (glass by its bin among `bins`).
-struct Rgb { std::uint8_t r, g, b; };
+struct Rgb {
+  std::uint8_t r, g, b;
+};
 Rgb labelColour(int label, int bins);
 
 /// Writes a PNG of labels (row 0 = bottom, drawn at the bottom), atomically.
-void writeLabelsPng(const std::filesystem::path& png, int width, int height,
-                    const std::vector<std::uint8_t>& labels, int bins, const LabelRenderOptions& options = {});
+void writeLabelsPng(const std::filesystem::path& png, int width, int height, const std::vector<std::uint8_t>& labels,
+                    int bins, const LabelRenderOptions& options = {});
 
 }  // namespace glassmap

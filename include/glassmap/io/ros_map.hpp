@@ -12,10 +12,10 @@ namespace glassmap {
 /// An occupancy grid as nav_msgs/OccupancyGrid holds it: row-major, row 0 is the BOTTOM row
 /// (y = origin.y), cell values -1 unknown, 0..100 occupancy probability in percent.
 struct OccupancyGridMap {
-  int width = 0;              ///< cells along x
-  int height = 0;             ///< cells along y
-  double resolution = 0.05;   ///< cell size [m]
-  Pose2 origin;               ///< pose of the lower-left corner of cell (0, 0) in the map frame [m, rad]
+  int width = 0;                  ///< cells along x
+  int height = 0;                 ///< cells along y
+  double resolution = 0.05;       ///< cell size [m]
+  Pose2 origin;                   ///< pose of the lower-left corner of cell (0, 0) in the map frame [m, rad]
   std::vector<std::int8_t> data;  ///< width * height values, index = row * width + col
 
   /// Value of cell (col, row); row 0 is the bottom row.

@@ -21,30 +21,30 @@ struct Particle {
 
 /// Options of the filter.
 struct FilterOptions {
-  int max_particles = 2000;      ///< particle count after a global init, and the KLD upper bound
-  int min_particles = 100;       ///< KLD lower bound
-  bool adaptive = true;          ///< KLD sampling; false keeps max_particles always
-  double kld_epsilon = 0.05;     ///< KLD error bound [-]
-  double kld_z = 2.33;           ///< upper standard-normal quantile of 1 - delta (0.99) [-]
-  double kld_bin_xy = 0.25;      ///< KLD histogram bin [m]
+  int max_particles = 2000;              ///< particle count after a global init, and the KLD upper bound
+  int min_particles = 100;               ///< KLD lower bound
+  bool adaptive = true;                  ///< KLD sampling; false keeps max_particles always
+  double kld_epsilon = 0.05;             ///< KLD error bound [-]
+  double kld_z = 2.33;                   ///< upper standard-normal quantile of 1 - delta (0.99) [-]
+  double kld_bin_xy = 0.25;              ///< KLD histogram bin [m]
   double kld_bin_theta = deg2rad(10.0);  ///< KLD histogram bin [rad]
-  double resample_ess = 0.5;     ///< resample when ESS < this fraction of the count [-]
-  double alpha_slow = 0.001;     ///< augmented MCL: long-term likelihood average rate [-]
-  double alpha_fast = 0.1;       ///< augmented MCL: short-term likelihood average rate [-]
-  bool inject = true;            ///< inject random particles when the likelihood collapses
-  double relocalize_ratio = 0.02;  ///< w_fast / w_slow below this: the robot is lost beyond what
-                                   ///< injection repairs; restart global localization (0 = never)
-  double free_clearance = 0.2;   ///< random particles keep this distance from segments [m]
-  double free_reach = 40.0;      ///< ... and lie within this of some segment's box [m]: farther, a
-                                 ///< laser sees nothing (bounds memory when a map has strays far away)
-  double global_temperature = 30.0;  ///< while the cloud is spread (global localization), the
-                                     ///< log-likelihoods are divided by this: annealing that keeps
-                                     ///< near-miss hypotheses alive [-]; 1 = off
-  double converged_spread = 0.5;     ///< the cloud counts as converged below this std dev [m] ...
-  double anneal_min_travel = 5.0;    ///< ... after the robot travelled at least this far [m];
-                                     ///< meanwhile KLD keeps at least max_particles / 10
-  OdometryNoise noise;           ///< motion model noise
-  std::uint64_t seed = 1;        ///< random seed: equal seeds give equal runs
+  double resample_ess = 0.5;             ///< resample when ESS < this fraction of the count [-]
+  double alpha_slow = 0.001;             ///< augmented MCL: long-term likelihood average rate [-]
+  double alpha_fast = 0.1;               ///< augmented MCL: short-term likelihood average rate [-]
+  bool inject = true;                    ///< inject random particles when the likelihood collapses
+  double relocalize_ratio = 0.02;        ///< w_fast / w_slow below this: the robot is lost beyond what
+                                         ///< injection repairs; restart global localization (0 = never)
+  double free_clearance = 0.2;           ///< random particles keep this distance from segments [m]
+  double free_reach = 40.0;              ///< ... and lie within this of some segment's box [m]: farther, a
+                                         ///< laser sees nothing (bounds memory when a map has strays far away)
+  double global_temperature = 30.0;      ///< while the cloud is spread (global localization), the
+                                         ///< log-likelihoods are divided by this: annealing that keeps
+                                         ///< near-miss hypotheses alive [-]; 1 = off
+  double converged_spread = 0.5;         ///< the cloud counts as converged below this std dev [m] ...
+  double anneal_min_travel = 5.0;        ///< ... after the robot travelled at least this far [m];
+                                         ///< meanwhile KLD keeps at least max_particles / 10
+  OdometryNoise noise;                   ///< motion model noise
+  std::uint64_t seed = 1;                ///< random seed: equal seeds give equal runs
 };
 
 /// The particle filter over a sensor model's map.
@@ -106,8 +106,7 @@ class ParticleFilter {
 
 /// Low-variance (systematic) resampling: indices of `count` draws from normalised `weights`
 /// with one random offset u in [0, 1 / count) (Probabilistic Robotics table 4.4).
-std::vector<std::size_t> lowVarianceResample(const std::vector<double>& weights, std::size_t count,
-                                             double u);
+std::vector<std::size_t> lowVarianceResample(const std::vector<double>& weights, std::size_t count, double u);
 
 /// KLD-sampling bound: particles needed for k occupied bins at error epsilon and quantile z
 /// (Fox 2003; Probabilistic Robotics table 8.4, line 15). 0 bins or 1 bin give 1.

@@ -22,9 +22,9 @@ inline constexpr double kCostScale = 1000.0;
 
 /// The energy of one labelling problem.
 struct LabelEnergy {
-  int width = 0;        ///< cells along x
-  int height = 0;       ///< cells along y
-  int num_labels = 0;   ///< labels per cell
+  int width = 0;                  ///< cells along x
+  int height = 0;                 ///< cells along y
+  int num_labels = 0;             ///< labels per cell
   std::vector<int32_t> unary;     ///< [cell * num_labels + label], cell = y * width + x
   std::vector<int32_t> pairwise;  ///< [a * num_labels + b], symmetric, per 8-neighbour pair
   /// Optional [cell]: 1 = solve this cell, 0 = keep its input label fixed. Empty = all active.
@@ -44,10 +44,10 @@ struct LabelEnergy {
 
 /// Weights of the glass pairwise table, in Psi units (scaled by kCostScale).
 struct PsiWeights {
-  double glass_glass = 3.0;   ///< two glass labels of different angle (paper: 3)
-  double glass_empty = 0.6;   ///< glass next to empty (paper: 0.6)
-  double glass_occ = 0.0;     ///< glass next to occupied (paper: 0, the "free buffer")
-  double empty_occ = 0.0;     ///< empty next to occupied (paper: 0)
+  double glass_glass = 3.0;  ///< two glass labels of different angle (paper: 3)
+  double glass_empty = 0.6;  ///< glass next to empty (paper: 0.6)
+  double glass_occ = 0.0;    ///< glass next to occupied (paper: 0, the "free buffer")
+  double empty_occ = 0.0;    ///< empty next to occupied (paper: 0)
 };
 
 /// Psi over {EMP, OCC, GLS_0..GLS_{bins-1}} from weights; symmetric, zero diagonal.

@@ -12,18 +12,18 @@ namespace glassmap::mrf {
 /// Settings of the refinement.
 struct RefineOptions {
   SolverKind solver = SolverKind::Expansion;  ///< graph-cut moves or ICM
-  PsiKind psi = PsiKind::Closed;               ///< pairwise table (see PsiKind)
-  double unary_weight = 1.0;         ///< scale of the -log posteriors against Psi [-]
-  int tile = 256;                    ///< tile side [cells]; each tile is solved with its border fixed
-  int sweeps = 2;                    ///< passes over all tiles (later passes see updated borders)
-  MrfOptions solve;                  ///< stopping rules per tile
+  PsiKind psi = PsiKind::Closed;              ///< pairwise table (see PsiKind)
+  double unary_weight = 1.0;                  ///< scale of the -log posteriors against Psi [-]
+  int tile = 256;                             ///< tile side [cells]; each tile is solved with its border fixed
+  int sweeps = 2;                             ///< passes over all tiles (later passes see updated borders)
+  MrfOptions solve;                           ///< stopping rules per tile
 };
 
 /// What the refinement did.
 struct RefineResult {
-  int tiles = 0;                 ///< tiles solved (with candidate cells), summed over sweeps
-  std::size_t active_cells = 0;  ///< candidate cells in the energy (first sweep)
-  std::size_t changed = 0;       ///< cells whose label the MRF changed
+  int tiles = 0;                   ///< tiles solved (with candidate cells), summed over sweeps
+  std::size_t active_cells = 0;    ///< candidate cells in the energy (first sweep)
+  std::size_t changed = 0;         ///< cells whose label the MRF changed
   std::int64_t energy_before = 0;  ///< summed tile energies before (first sweep) [1/kCostScale]
   std::int64_t energy_after = 0;   ///< summed tile energies after (last sweep)
   double seconds = 0.0;

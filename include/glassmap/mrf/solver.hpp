@@ -13,20 +13,20 @@ namespace glassmap::mrf {
 
 /// Stopping rules shared by all solvers.
 struct MrfOptions {
-  int max_cycles = 100;           ///< upper bound on cycles (a cycle visits every move once)
-  double min_cycle_gain = 1e-4;   ///< stop when a cycle lowers E by less than this fraction of |E|
+  int max_cycles = 100;          ///< upper bound on cycles (a cycle visits every move once)
+  double min_cycle_gain = 1e-4;  ///< stop when a cycle lowers E by less than this fraction of |E|
 };
 
 /// What a solve did.
 struct MrfResult {
-  int64_t initial_energy = 0;  ///< E of the input labelling
-  int64_t energy = 0;          ///< E of the output labelling, tracked move by move (see solver)
-  int cycles = 0;              ///< cycles run
-  int64_t moves = 0;           ///< moves that lowered the energy
-  int64_t truncated_terms = 0; ///< expansion: pairwise terms raised to make a move submodular
-  double seconds = 0.0;        ///< wall time of solve() [s]
-  double cpu_seconds = 0.0;    ///< processor time of solve() [s] (one thread; robust on a busy host)
-  bool converged = false;      ///< true if a cycle gained less than min_cycle_gain (not max_cycles)
+  int64_t initial_energy = 0;   ///< E of the input labelling
+  int64_t energy = 0;           ///< E of the output labelling, tracked move by move (see solver)
+  int cycles = 0;               ///< cycles run
+  int64_t moves = 0;            ///< moves that lowered the energy
+  int64_t truncated_terms = 0;  ///< expansion: pairwise terms raised to make a move submodular
+  double seconds = 0.0;         ///< wall time of solve() [s]
+  double cpu_seconds = 0.0;     ///< processor time of solve() [s] (one thread; robust on a busy host)
+  bool converged = false;       ///< true if a cycle gained less than min_cycle_gain (not max_cycles)
 };
 
 /// A local minimiser of LabelEnergy. labels holds the start labelling on input (inactive cells

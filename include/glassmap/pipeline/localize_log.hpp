@@ -14,15 +14,15 @@ namespace glassmap::pipeline {
 
 /// Everything localizeLog needs.
 struct LocalizeOptions {
-  std::string model = "glass";          ///< sensor model, one of sensor::sensorModelNames()
-  sensor::SensorParams sensor;          ///< max_range is taken from the log's first scan
-  localize::LocalizeOptions filter;     ///< particles, beams, initial pose, seed
+  std::string model = "glass";       ///< sensor model, one of sensor::sensorModelNames()
+  sensor::SensorParams sensor;       ///< max_range is taken from the log's first scan
+  localize::LocalizeOptions filter;  ///< particles, beams, initial pose, seed
 };
 
 /// The filter's result and the model it ran with.
 struct LocalizeResult {
-  localize::LocalizeResult run;         ///< trajectory, per-scan spread, counts, times
-  std::string model;                    ///< model name as the model reports it
+  localize::LocalizeResult run;  ///< trajectory, per-scan spread, counts, times
+  std::string model;             ///< model name as the model reports it
 };
 
 /// Localizes every scan of `log` against `map`. Throws Error for an empty map, a log with no

@@ -30,14 +30,14 @@ MapMethod parseMapMethod(const std::string& name);
 /// Everything mapLog needs; each step's options are its own module's.
 struct MapOptions {
   MapMethod method = MapMethod::Mrf;
-  glass::MappingOptions mapping;   ///< grid, beams, classifiers (mapping.method is set from method)
-  mrf::RefineOptions mrf;          ///< used when method == Mrf
-  bool phantoms = true;            ///< run the mirror-phantom test
+  glass::MappingOptions mapping;  ///< grid, beams, classifiers (mapping.method is set from method)
+  mrf::RefineOptions mrf;         ///< used when method == Mrf
+  bool phantoms = true;           ///< run the mirror-phantom test
   glass::PhantomOptions phantom;
-  bool fit_floorplan = true;       ///< vectorize the labels into a floorplan
+  bool fit_floorplan = true;         ///< vectorize the labels into a floorplan
   bool prune_unfitted_glass = true;  ///< glass cells no fitted pane explains take their best other
                                      ///< label (fits the floorplan even when fit_floorplan is off)
-  double prune_tolerance = 0.10;   ///< ... farther than this from every glass segment [m]
+  double prune_tolerance = 0.10;     ///< ... farther than this from every glass segment [m]
   vector::VectorizeOptions vectorize;
 };
 
@@ -50,13 +50,13 @@ struct MapTimes {
 
 /// The outcome of mapping one log.
 struct MapResult {
-  glass::CellEvidence evidence;      ///< final labels (after every step) and costs
-  glass::MappingStats stats;         ///< grid and classifier figures; glass/occupied counts are final
-  mrf::RefineResult mrf;             ///< MRF figures (zero unless method == Mrf)
-  glass::PhantomStats phantoms;      ///< mirror-phantom figures (zero when skipped)
-  vector::VectorizeResult floorplan; ///< the fitted floorplan (empty unless fitted)
-  bool has_floorplan = false;        ///< the floorplan was fitted
-  std::size_t pruned_glass = 0;      ///< glass cells the pane fit relabelled
+  glass::CellEvidence evidence;       ///< final labels (after every step) and costs
+  glass::MappingStats stats;          ///< grid and classifier figures; glass/occupied counts are final
+  mrf::RefineResult mrf;              ///< MRF figures (zero unless method == Mrf)
+  glass::PhantomStats phantoms;       ///< mirror-phantom figures (zero when skipped)
+  vector::VectorizeResult floorplan;  ///< the fitted floorplan (empty unless fitted)
+  bool has_floorplan = false;         ///< the floorplan was fitted
+  std::size_t pruned_glass = 0;       ///< glass cells the pane fit relabelled
   MapTimes seconds;
 };
 

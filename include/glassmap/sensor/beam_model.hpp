@@ -13,8 +13,7 @@ class BeamModel final : public SensorModel {
  public:
   BeamModel(const VectorMap& map, const SensorParams& params);
   std::string name() const override { return "beam"; }
-  double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
-                       double max_range) const override;
+  double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const override;
   double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const override;
   const VectorMap& map() const override { return map_; }
 

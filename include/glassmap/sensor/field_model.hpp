@@ -24,10 +24,10 @@ class DistanceGrid {
   double exactDistance(const Vec2& p) const;
   double resolution() const { return res_; }
   double maxDistance() const { return max_dist_; }
-  Eigen::AlignedBox2d bounds() const;  ///< area the tiles may cover [m]
-  std::size_t tiles() const { return tile_count_; }             ///< tiles allocated
-  std::size_t samples() const { return values_.size(); }        ///< distances stored
-  std::size_t bytes() const;                                    ///< memory held [bytes]
+  Eigen::AlignedBox2d bounds() const;                     ///< area the tiles may cover [m]
+  std::size_t tiles() const { return tile_count_; }       ///< tiles allocated
+  std::size_t samples() const { return values_.size(); }  ///< distances stored
+  std::size_t bytes() const;                              ///< memory held [bytes]
 
  private:
   float* tileOf(int tx, int ty);  // allocates on first use
@@ -37,9 +37,9 @@ class DistanceGrid {
   std::size_t tile_count_ = 0;
   Vec2 origin_ = Vec2::Zero();  // centre of cell (0, 0) [m]
   double res_ = 0.025, inv_res_ = 40.0, max_dist_ = 1.0;
-  int nx_ = 0, ny_ = 0;                    // samples along x and y
+  int nx_ = 0, ny_ = 0;                        // samples along x and y
   int tile_ = 64, tiles_x_ = 0, tiles_y_ = 0;  // tile side [cells] and tile counts
-  std::size_t stride_ = 0;                 // (tile_ + 1)^2
+  std::size_t stride_ = 0;                     // (tile_ + 1)^2
 };
 
 /// "field": p(z) = z_hit N(dist(end point); 0, sigma) + z_rand / z_max for z < z_max; a max reading
@@ -50,8 +50,7 @@ class FieldModel final : public SensorModel {
  public:
   FieldModel(const VectorMap& map, const SensorParams& params);
   std::string name() const override { return "field"; }
-  double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
-                       double max_range) const override;
+  double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const override;
   double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const override;
   const VectorMap& map() const override { return map_; }
   const DistanceGrid& grid() const { return grid_; }

@@ -22,11 +22,11 @@ namespace glassmap::sensor {
 
 /// Expected ranges of the three glass modes for one beam.
 struct GlassModes {
-  double d_g = 0;          ///< range to the pane [m]
-  double theta_deg = 0;    ///< incidence angle [deg]
+  double d_g = 0;                                    ///< range to the pane [m]
+  double theta_deg = 0;                              ///< incidence angle [deg]
   double w_direct = 0, w_normal = 0, w_refract = 0;  ///< the paper's P(mode | theta) [-]
-  double e_normal = 0;     ///< d_g + d_o [m]; +inf when the mirrored ray meets nothing
-  double e_refract = 0;    ///< d_real + offset [m]; +inf when the continued ray meets nothing
+  double e_normal = 0;                               ///< d_g + d_o [m]; +inf when the mirrored ray meets nothing
+  double e_refract = 0;                              ///< d_real + offset [m]; +inf when the continued ray meets nothing
 };
 
 class GlassModel final : public SensorModel {
@@ -34,8 +34,7 @@ class GlassModel final : public SensorModel {
   enum class Variant { Mixture, Paper };
   GlassModel(const VectorMap& map, const SensorParams& params, Variant variant = Variant::Mixture);
   std::string name() const override { return variant_ == Variant::Paper ? "glass-paper" : "glass"; }
-  double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
-                       double max_range) const override;
+  double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const override;
   double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const override;
   const VectorMap& map() const override { return caster_.map(); }
 

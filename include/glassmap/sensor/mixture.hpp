@@ -11,8 +11,8 @@ namespace glassmap::sensor {
 /// Normalised weights and shapes of the hit/short/max/random mixture.
 struct Mixture {
   double w_hit = 0, w_short = 0, w_max = 0, w_rand = 0;  ///< weights summing to 1 [-]
-  double sigma = 0.05;         ///< hit std dev [m]
-  double lambda_short = 0.2;   ///< short-reading rate [1/m]
+  double sigma = 0.05;                                   ///< hit std dev [m]
+  double lambda_short = 0.2;                             ///< short-reading rate [1/m]
 
   explicit Mixture(const SensorParams& p);
 

@@ -8,9 +8,9 @@
 #include <string_view>
 #include <vector>
 
+#include "glassmap/core/laser_scan.hpp"
 #include "glassmap/core/pose2.hpp"
 #include "glassmap/geometry/vector_map.hpp"
-#include "glassmap/core/laser_scan.hpp"
 
 namespace glassmap::sensor {
 
@@ -23,21 +23,22 @@ GlassAs parseGlassAs(std::string_view s);
 
 /// Parameters of the models. The mixture weights z_* are normalised by the models.
 struct SensorParams {
-  double max_range = 30.0;      ///< sensor maximum range z_max [m] (a log's scans override it)
-  double sigma_hit = 0.05;      ///< std dev of a measured range around the expected one, sigma_z [m]
-  double z_hit = 0.85;          ///< weight of the hit (measurement) component [-]
-  double z_short = 0.05;        ///< weight of unexpected short readings (people, clutter) [-]
-  double z_max = 0.05;          ///< weight of max-range readings (missed echoes) [-]
-  double z_rand = 0.05;         ///< weight of uniformly random readings [-]
-  double lambda_short = 0.2;    ///< rate of the short-reading exponential [1/m]
+  double max_range = 30.0;             ///< sensor maximum range z_max [m] (a log's scans override it)
+  double sigma_hit = 0.05;             ///< std dev of a measured range around the expected one, sigma_z [m]
+  double z_hit = 0.85;                 ///< weight of the hit (measurement) component [-]
+  double z_short = 0.05;               ///< weight of unexpected short readings (people, clutter) [-]
+  double z_max = 0.05;                 ///< weight of max-range readings (missed echoes) [-]
+  double z_rand = 0.05;                ///< weight of uniformly random readings [-]
+  double lambda_short = 0.2;           ///< rate of the short-reading exponential [1/m]
   GlassAs glass_as = GlassAs::Opaque;  ///< beam/field: what glass is to them
   // Glass model (paper 2.1-2.3).
-  double direct_sigma_deg = 1.7320508075688772;  ///< direct-reflection lobe sigma_dr [deg] (paper: sigma_dr^2 = 3 deg^2)
-  double lambda_normal = 0.09;      ///< rate of the normal-reflection weight [1/deg]
-  double glass_index = 1.5;        ///< refractive index used for the refraction offset [-]
-  double offset = -1.0;            ///< refraction offset per pane [m]; < 0: the physical elongation
-                                   ///< t (n / cos theta_t - 1 / cos theta_i) of each pane crossed
-  int max_panes = 4;               ///< panes the transmitted ray is followed through
+  double direct_sigma_deg =
+      1.7320508075688772;       ///< direct-reflection lobe sigma_dr [deg] (paper: sigma_dr^2 = 3 deg^2)
+  double lambda_normal = 0.09;  ///< rate of the normal-reflection weight [1/deg]
+  double glass_index = 1.5;     ///< refractive index used for the refraction offset [-]
+  double offset = -1.0;         ///< refraction offset per pane [m]; < 0: the physical elongation
+                                ///< t (n / cos theta_t - 1 / cos theta_i) of each pane crossed
+  int max_panes = 4;            ///< panes the transmitted ray is followed through
   // Field model.
   double field_resolution = 0.025;  ///< cell size of the precomputed distance grid [m]
   double field_max_dist = 1.0;      ///< distances are clamped to this [m]
@@ -45,11 +46,11 @@ struct SensorParams {
 
 /// Beams of one scan prepared for evaluation: angles in the laser frame, unit directions, ranges.
 struct BeamSet {
-  std::vector<double> angles;    ///< beam angle in the laser frame [rad]
-  std::vector<Vec2> dirs;        ///< (cos, sin) of angles
-  std::vector<double> ranges;    ///< measured range z [m]; >= max_range means a max reading
-  std::vector<Vec2> points;      ///< z * dir: the end point in the laser frame [m]
-  double max_range = 30.0;       ///< z_max of the scan [m]
+  std::vector<double> angles;  ///< beam angle in the laser frame [rad]
+  std::vector<Vec2> dirs;      ///< (cos, sin) of angles
+  std::vector<double> ranges;  ///< measured range z [m]; >= max_range means a max reading
+  std::vector<Vec2> points;    ///< z * dir: the end point in the laser frame [m]
+  double max_range = 30.0;     ///< z_max of the scan [m]
   std::size_t size() const { return ranges.size(); }
 };
 
@@ -65,8 +66,7 @@ class SensorModel {
   virtual std::string name() const = 0;
   /// log p(z | T_map_laser, m) of one beam from the laser's origin along unit direction `dir`
   /// (map frame) reading z [m]; z >= max_range is a max reading: the log of its probability mass.
-  virtual double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z,
-                               double max_range) const = 0;
+  virtual double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const = 0;
   /// Sum over the beams of logLikelihood.
   virtual double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const;
   /// The same for a beam at `angle` [rad] in the laser frame.

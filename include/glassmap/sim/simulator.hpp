@@ -29,18 +29,18 @@ const char* toString(BeamOutcome o);
 /// motion for it (the wheels do not turn); afterwards the odometry integrates the real motion again
 /// from where it believed the robot was.
 struct Kidnap {
-  double time = -1.0;        ///< when [s]: the first scan at or after it sees the new pose; < 0 = never
-  double along = 0.0;        ///< jump this far ahead along the trajectory, which goes on from there [m]
-  std::optional<Pose2> to;   ///< or: jump to this base pose; the rest of the trajectory moves rigidly
-                             ///< with it (it is up to the caller that it stays in free space)
+  double time = -1.0;       ///< when [s]: the first scan at or after it sees the new pose; < 0 = never
+  double along = 0.0;       ///< jump this far ahead along the trajectory, which goes on from there [m]
+  std::optional<Pose2> to;  ///< or: jump to this base pose; the rest of the trajectory moves rigidly
+                            ///< with it (it is up to the caller that it stays in free space)
 };
 
 /// Options of one run.
 struct SimOptions {
   std::uint64_t seed = 1;
-  double duration_limit = 0.0;  ///< stop after this many seconds, 0 = whole trajectory [s]
+  double duration_limit = 0.0;      ///< stop after this many seconds, 0 = whole trajectory [s]
   bool repeat_until_limit = false;  ///< loop the trajectory until duration_limit
-  Kidnap kidnap{};              ///< none by default
+  Kidnap kidnap{};                  ///< none by default
 };
 
 /// What a kidnapping did (ground truth).
@@ -54,11 +54,11 @@ struct KidnapEvent {
 
 /// The result of a run.
 struct SimResult {
-  LaserLog log;                             ///< scans (laser_pose = SLAM-like, odom_pose = odometry) + ODOM
-  std::vector<StampedPose> ground_truth;    ///< true laser pose per scan
+  LaserLog log;                                    ///< scans (laser_pose = SLAM-like, odom_pose = odometry) + ODOM
+  std::vector<StampedPose> ground_truth;           ///< true laser pose per scan
   std::vector<std::vector<BeamOutcome>> outcomes;  ///< per scan, per beam
   std::array<std::size_t, static_cast<std::size_t>(BeamOutcome::kCount)> counts{};  ///< per outcome
-  std::optional<KidnapEvent> kidnap;        ///< set when options.kidnap happened
+  std::optional<KidnapEvent> kidnap;  ///< set when options.kidnap happened
 };
 
 /// Simulates the scene's trajectory with its laser, physics and noise. Deterministic for a seed.

@@ -26,8 +26,9 @@ void exportFloorplan(const std::filesystem::path& path, const VectorMap& map);
 
 /// Writes <stem>.<ext> for every extension, in order; returns the paths written.
 /// pipeline::writeMapFiles calls writeFloorplanSet(dir / "floorplan", result.floorplan.map).
-std::vector<std::filesystem::path> writeFloorplanSet(const std::filesystem::path& stem, const VectorMap& map,
-                                                     const std::vector<std::string>& extensions = defaultFloorplanSet());
+std::vector<std::filesystem::path> writeFloorplanSet(
+    const std::filesystem::path& stem, const VectorMap& map,
+    const std::vector<std::string>& extensions = defaultFloorplanSet());
 
 /// The label grid of a raster read by io's readLabelRaster (5-degree glass bins, no evidence).
 LabelGrid toLabelGrid(const LabelRaster& raster);

@@ -16,13 +16,13 @@ namespace glassmap::vector {
 
 /// A label raster. Row 0 is the bottom row; cell (x, y) has linear index y * width + x.
 struct LabelGrid {
-  int width = 0;                     ///< cells along x
-  int height = 0;                    ///< cells along y
-  double resolution = 0.05;          ///< cell size [m]
-  Vec2 origin = Vec2::Zero();        ///< lower-left corner of cell (0, 0) in the map frame [m]
-  double angle_bin_deg = 5.0;        ///< glass code 10 + k has its pane normal at k * bin [deg]
-  std::vector<std::uint8_t> codes;   ///< [y * width + x] code: 0 unknown, 1 empty, 2 occupied, 10 + k glass
-  std::vector<float> evidence;       ///< optional [cell] confidence of the cell's code in [0, 1]; empty if none
+  int width = 0;                    ///< cells along x
+  int height = 0;                   ///< cells along y
+  double resolution = 0.05;         ///< cell size [m]
+  Vec2 origin = Vec2::Zero();       ///< lower-left corner of cell (0, 0) in the map frame [m]
+  double angle_bin_deg = 5.0;       ///< glass code 10 + k has its pane normal at k * bin [deg]
+  std::vector<std::uint8_t> codes;  ///< [y * width + x] code: 0 unknown, 1 empty, 2 occupied, 10 + k glass
+  std::vector<float> evidence;      ///< optional [cell] confidence of the cell's code in [0, 1]; empty if none
 
   std::size_t cells() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
   std::uint8_t code(int x, int y) const { return codes[static_cast<std::size_t>(y) * width + x]; }

@@ -19,56 +19,56 @@ namespace glassmap::vector {
 
 /// Fitting parameters of one material.
 struct MaterialOptions {
-  double max_distance = 0.08;     ///< region growing: cell centre to region line [m]
-  double max_angle_deg = 20.0;    ///< region growing: cell normal to region normal [deg]
-  double neighbour_radius = 0.11; ///< region growing: cells within this centre distance are neighbours [m]
-  double normal_radius = 0.16;    ///< wall cells: radius of the local principal-axis window [m]
-  std::size_t min_cells = 6;      ///< fewer supporting cells: dropped
-  double min_length = 0.25;       ///< shorter segments: dropped [m]
-  double min_elongation = 3.0;    ///< length / measured thickness below this: a blob, dropped
-  double min_label_agreement = 0.6; ///< glass: share of cells whose angle label is within max_angle of the fit
-  double max_gap = 0.30;          ///< a region is cut where its cells leave a longer gap [m]
-  double merge_gap = 0.30;        ///< collinear pieces closer than this may merge [m]
-  double max_bridge = 1.0;        ///< ... and up to this across a gap not seen free (unknown, sparse hits) [m]
-  double merge_angle_deg = 6.0;   ///< collinear pieces: direction difference [deg]
-  double merge_offset = 0.10;     ///< collinear pieces: endpoint offset from the other's line [m]
-  double thickness = 0.10;        ///< thickness written for a segment that has no measured one [m]
+  double max_distance = 0.08;        ///< region growing: cell centre to region line [m]
+  double max_angle_deg = 20.0;       ///< region growing: cell normal to region normal [deg]
+  double neighbour_radius = 0.11;    ///< region growing: cells within this centre distance are neighbours [m]
+  double normal_radius = 0.16;       ///< wall cells: radius of the local principal-axis window [m]
+  std::size_t min_cells = 6;         ///< fewer supporting cells: dropped
+  double min_length = 0.25;          ///< shorter segments: dropped [m]
+  double min_elongation = 3.0;       ///< length / measured thickness below this: a blob, dropped
+  double min_label_agreement = 0.6;  ///< glass: share of cells whose angle label is within max_angle of the fit
+  double max_gap = 0.30;             ///< a region is cut where its cells leave a longer gap [m]
+  double merge_gap = 0.30;           ///< collinear pieces closer than this may merge [m]
+  double max_bridge = 1.0;           ///< ... and up to this across a gap not seen free (unknown, sparse hits) [m]
+  double merge_angle_deg = 6.0;      ///< collinear pieces: direction difference [deg]
+  double merge_offset = 0.10;        ///< collinear pieces: endpoint offset from the other's line [m]
+  double thickness = 0.10;           ///< thickness written for a segment that has no measured one [m]
 };
 
 /// Everything vectorize() needs. Defaults suit 5 cm grids.
 struct VectorizeOptions {
   MaterialOptions glass = glassDefaults();
   MaterialOptions wall = wallDefaults();
-  double noise_floor = 0.3;          ///< BIC: floor of the rms cell offset from a line [cells]
-  double params_per_segment = 4.0;   ///< BIC: free parameters of one segment (line + extent)
-  double max_wall_thickness = 0.35;  ///< two parallel wall faces closer than this become one wall [m]
-  double corner_snap = 0.35;         ///< wall ends this close to another wall's line are joined [m]
-  bool face_align = true;            ///< a wall seen from one side only lies on its observed face (the
-                                     ///< edge of free space), not in the middle of its blurred band
-  bool regularize = true;            ///< snap near-axis segments to the dominant axes
-  double regularize_angle_deg = 3.0; ///< ... when within this of an axis [deg]; angled glass stays
-  bool walls = true;                 ///< fit walls
-  bool glass_segments = true;        ///< fit glass
+  double noise_floor = 0.3;           ///< BIC: floor of the rms cell offset from a line [cells]
+  double params_per_segment = 4.0;    ///< BIC: free parameters of one segment (line + extent)
+  double max_wall_thickness = 0.35;   ///< two parallel wall faces closer than this become one wall [m]
+  double corner_snap = 0.35;          ///< wall ends this close to another wall's line are joined [m]
+  bool face_align = true;             ///< a wall seen from one side only lies on its observed face (the
+                                      ///< edge of free space), not in the middle of its blurred band
+  bool regularize = true;             ///< snap near-axis segments to the dominant axes
+  double regularize_angle_deg = 3.0;  ///< ... when within this of an axis [deg]; angled glass stays
+  bool walls = true;                  ///< fit walls
+  bool glass_segments = true;         ///< fit glass
   // Finer rules of the steps (defaults suit any cell size; units as stated).
-  std::size_t min_region_cells = 3;  ///< region growing: smaller regions are left unassigned [cells]
-  double short_glass_sd_cells = 3.0; ///< a glass piece whose cells spread along it by less than this
-                                     ///< (std dev, about 10 cells of length) takes its direction from
-                                     ///< the angle labels, not the fit [cells]
-  double end_margin_cells = 0.5;     ///< a piece reaches this far past its outermost cell centres [cells]
-  double max_unseen_free_fraction = 0.2;  ///< a gap counts as unseen (bridgeable up to max_bridge) when
-                                          ///< at most this share of it was seen free [-]
-  double face_min_overlap = 0.5;     ///< wall faces merge when they overlap over this share of the
-                                     ///< shorter one [-] ...
+  std::size_t min_region_cells = 3;           ///< region growing: smaller regions are left unassigned [cells]
+  double short_glass_sd_cells = 3.0;          ///< a glass piece whose cells spread along it by less than this
+                                              ///< (std dev, about 10 cells of length) takes its direction from
+                                              ///< the angle labels, not the fit [cells]
+  double end_margin_cells = 0.5;              ///< a piece reaches this far past its outermost cell centres [cells]
+  double max_unseen_free_fraction = 0.2;      ///< a gap counts as unseen (bridgeable up to max_bridge) when
+                                              ///< at most this share of it was seen free [-]
+  double face_min_overlap = 0.5;              ///< wall faces merge when they overlap over this share of the
+                                              ///< shorter one [-] ...
   double face_max_free_fraction = 1.0 / 3.0;  ///< ... and at most this share of the band between
                                               ///< them is free space [-]
-  double side_crowding_cells = 2.0;  ///< glass: look this far across the line for more glass [cells] ...
-  double max_side_crowding = 0.5;    ///< ... a piece with more of its cells crowded is a strip cut out
-                                     ///< of a blob, not a pane, and is dropped [-]
-  double axis_window_deg = 1.0;      ///< walls within this of a direction count for it as the
-                                     ///< dominant axis [deg]
-  double corner_min_angle_deg = 30.0;  ///< ends snap only to walls crossing at least this steeply [deg]
-  double one_sided_max_ratio = 0.25; ///< a wall is one-sided when its less free side has at most this
-                                     ///< share of its freer side's free samples [-]
+  double side_crowding_cells = 2.0;           ///< glass: look this far across the line for more glass [cells] ...
+  double max_side_crowding = 0.5;             ///< ... a piece with more of its cells crowded is a strip cut out
+                                              ///< of a blob, not a pane, and is dropped [-]
+  double axis_window_deg = 1.0;               ///< walls within this of a direction count for it as the
+                                              ///< dominant axis [deg]
+  double corner_min_angle_deg = 30.0;         ///< ends snap only to walls crossing at least this steeply [deg]
+  double one_sided_max_ratio = 0.25;          ///< a wall is one-sided when its less free side has at most this
+                                              ///< share of its freer side's free samples [-]
 
   static MaterialOptions glassDefaults();
   static MaterialOptions wallDefaults();
@@ -77,16 +77,16 @@ struct VectorizeOptions {
 /// Counts and times of one run.
 struct VectorizeStats {
   std::size_t glass_cells = 0, wall_cells = 0;  ///< input cells per material
-  std::size_t regions = 0;         ///< regions grown (both materials)
-  std::size_t bic_splits = 0;      ///< pieces split by the criterion
-  std::size_t merges = 0;          ///< collinear merges accepted
-  std::size_t face_merges = 0;     ///< wall face pairs merged into a centre line
-  std::size_t face_aligned = 0;    ///< one-sided walls moved onto their observed face
-  std::size_t regularized = 0;     ///< segments rotated onto an axis
-  std::size_t corners = 0;         ///< segment ends moved to close a corner or T
-  std::size_t dropped = 0;         ///< pieces dropped (too short, too few cells, blob)
-  double dominant_axis_deg = 0.0;  ///< the floor's dominant wall direction in [0, 90) [deg]
-  double seconds = 0.0;            ///< wall-clock time [s]
+  std::size_t regions = 0;                      ///< regions grown (both materials)
+  std::size_t bic_splits = 0;                   ///< pieces split by the criterion
+  std::size_t merges = 0;                       ///< collinear merges accepted
+  std::size_t face_merges = 0;                  ///< wall face pairs merged into a centre line
+  std::size_t face_aligned = 0;                 ///< one-sided walls moved onto their observed face
+  std::size_t regularized = 0;                  ///< segments rotated onto an axis
+  std::size_t corners = 0;                      ///< segment ends moved to close a corner or T
+  std::size_t dropped = 0;                      ///< pieces dropped (too short, too few cells, blob)
+  double dominant_axis_deg = 0.0;               ///< the floor's dominant wall direction in [0, 90) [deg]
+  double seconds = 0.0;                         ///< wall-clock time [s]
 };
 
 /// The floorplan and how it was obtained.
