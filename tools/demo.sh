@@ -26,7 +26,7 @@ fi
 if has localize; then
   echo "== localize" >&2
   "$gm" localize --map "$out/sim/floorplan.gpkg" "$out/sim/log.clf" -o "$out/loc/estimate.tum" \
-    --init "$(grep -v '^#' "$out/sim/groundtruth.tum" | head -1 | awk '{printf "%s,%s,%s", $2, $3, 2*atan2($7,$8)}')"
+    --init "$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["start_init"])' "$out/sim/meta.json")"
   "$gm" eval traj --truth "$out/sim/groundtruth.tum" "$out/loc/estimate.tum"
 fi
 echo "== converting the true floorplan to CAD/GIS formats" >&2
