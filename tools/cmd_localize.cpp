@@ -87,20 +87,23 @@ void run(const LocalizeArgs& a) {
     localize::writeSpreadCsv(spread_path, r);
   }
 
-  const nlohmann::json summary = {{"model", result.model},
-                                  {"glass_as", a.glass_as},
-                                  {"scans", r.scans},
-                                  {"updates", r.updates},
-                                  {"resamplings", r.resamplings},
-                                  {"injected_particles", r.injected},
-                                  {"relocalizations", r.relocalizations},
-                                  {"mean_particles", r.mean_particles},
-                                  {"beams", a.beams},
-                                  {"seconds", r.seconds},
-                                  {"ms_per_update", 1e3 * r.seconds_per_update},
-                                  {"log_seconds", r.log_duration},
-                                  {"real_time_factor", r.realTimeFactor()},
-                                  {"seed", a.seed}};
+  const nlohmann::json summary = {
+      {"model", result.model},
+      {"glass_as", a.glass_as},
+      {"scans", r.scans},
+      {"updates", r.updates},
+      {"resamplings", r.resamplings},
+      {"injected_particles", r.injected},
+      {"relocalizations", r.relocalizations},
+      {"converged", r.converged},
+      {"converged_at_s", r.converged ? nlohmann::json(r.converged_at) : nlohmann::json(nullptr)},
+      {"mean_particles", r.mean_particles},
+      {"beams", a.beams},
+      {"seconds", r.seconds},
+      {"ms_per_update", 1e3 * r.seconds_per_update},
+      {"log_seconds", r.log_duration},
+      {"real_time_factor", r.realTimeFactor()},
+      {"seed", a.seed}};
   if (!a.json.empty()) cli::writeJsonFile(a.json, summary);
   if (!a.quiet) {
     std::printf("%-18s %12s\n", "model", result.model.c_str());
@@ -111,6 +114,11 @@ void run(const LocalizeArgs& a) {
     std::printf("%-18s %12.1f\n", "real-time factor", r.realTimeFactor());
     std::printf("%-18s %12zu\n", "injected", r.injected);
     std::printf("%-18s %12zu\n", "relocalizations", r.relocalizations);
+    if (r.converged)
+      std::printf("%-18s %12s  (one tight mode from %.1f s on)\n", "converged", "yes", r.converged_at);
+    else
+      std::printf("%-18s %12s  (the cloud is still spread or split at the end: do not trust the pose)\n", "converged",
+                  "NO");
     std::printf("wrote %s\n", a.out.c_str());
   }
 }
@@ -150,7 +158,8 @@ const cli::Registrar reg(60, [](CLI::App& app) {
   sub->add_option("--spread", a->spread,
                   "also write the particle spread per scan as CSV: t, spread_m (weighted RMS distance of\n"
                   "the particles from the estimate), particles, corrected (1 = measurement update),\n"
-                  "relocalizations (global re-initialisations so far)");
+                  "relocalizations (global re-initialisations so far), converged (1 = the cloud is one tight\n"
+                  "mode from this scan to the end; poses with 0 came before convergence)");
   sub->add_flag("-q,--quiet", a->quiet, "print nothing on success");
   sub->callback([a] { run(*a); });
 });

@@ -82,6 +82,21 @@ LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model
     result.relocalized.push_back(filter.relocalizations());
   }
   result.relocalizations = filter.relocalizations();
+  // Converged for good: a tight cloud (one mode: a split or spread cloud has a large spread about
+  // its mean) from some scan to the end. Never a confident answer while the cloud is still split.
+  const std::size_t n = result.spread.size();
+  result.settled.assign(n, 0);
+  for (std::size_t k = n; k-- > 0;) {
+    if (!(result.spread[k] < options.filter.converged_spread) || (k + 1 < n && !result.settled[k + 1])) break;
+    result.settled[k] = 1;
+  }
+  result.converged = n > 0 && result.settled[n - 1] && !filter.annealing();
+  if (!result.converged) std::fill(result.settled.begin(), result.settled.end(), std::uint8_t{0});
+  for (std::size_t k = 0; k < n && result.converged; ++k)
+    if (result.settled[k]) {
+      result.converged_at = result.trajectory[k].timestamp - log.scans.front().timestamp;
+      break;
+    }
   result.seconds = std::chrono::duration<double>(clock() - t_start).count();
   result.seconds_per_update = result.updates ? update_seconds / static_cast<double>(result.updates) : 0.0;
   result.mean_particles = result.updates ? particle_sum / static_cast<double>(result.updates) : 0.0;
@@ -92,15 +107,16 @@ LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model
 void writeSpreadCsv(const std::filesystem::path& path, const LocalizeResult& result) {
   const std::size_t n = result.trajectory.size();
   if (result.spread.size() != n || result.particles.size() != n || result.corrected.size() != n ||
-      result.relocalized.size() != n)
+      result.relocalized.size() != n || (!result.settled.empty() && result.settled.size() != n))
     throw Error("the per-scan filter state does not match the trajectory", path.string());
   writeAtomically(path, [&](const std::filesystem::path& tmp) {
     std::ofstream out(tmp);
-    out << "t,spread_m,particles,corrected,relocalizations\n";
+    out << "t,spread_m,particles,corrected,relocalizations,converged\n";
     char line[128];
     for (std::size_t k = 0; k < n; ++k) {
-      std::snprintf(line, sizeof line, "%.6f,%.6g,%zu,%d,%zu\n", result.trajectory[k].timestamp, result.spread[k],
-                    result.particles[k], static_cast<int>(result.corrected[k]), result.relocalized[k]);
+      std::snprintf(line, sizeof line, "%.6f,%.6g,%zu,%d,%zu,%d\n", result.trajectory[k].timestamp, result.spread[k],
+                    result.particles[k], static_cast<int>(result.corrected[k]), result.relocalized[k],
+                    result.settled.empty() ? 0 : static_cast<int>(result.settled[k]));
       out << line;
     }
     if (!out) throw Error("cannot write", path.string());

@@ -291,22 +291,23 @@ TEST(Localizer, SpreadCsvHasOneRowPerScan) {
   std::ifstream in(path);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "t,spread_m,particles,corrected,relocalizations");
+  EXPECT_EQ(line, "t,spread_m,particles,corrected,relocalizations,converged");
   std::size_t k = 0;
   while (std::getline(in, line)) {
     ASSERT_LT(k, r.trajectory.size());
     std::stringstream ss(line);
     double t = 0, spread = 0;
     std::size_t particles = 0, relocalizations = 0;
-    int corrected = -1;
-    char c[4];
-    ss >> t >> c[0] >> spread >> c[1] >> particles >> c[2] >> corrected >> c[3] >> relocalizations;
+    int corrected = -1, converged = -1;
+    char c[5];
+    ss >> t >> c[0] >> spread >> c[1] >> particles >> c[2] >> corrected >> c[3] >> relocalizations >> c[4] >> converged;
     ASSERT_TRUE(ss) << line;
     EXPECT_NEAR(t, r.trajectory[k].timestamp, 1e-6);
     EXPECT_NEAR(spread, r.spread[k], 1e-5 * r.spread[k]);
     EXPECT_EQ(particles, r.particles[k]);
     EXPECT_EQ(corrected, r.corrected[k]);
     EXPECT_EQ(relocalizations, r.relocalized[k]);
+    EXPECT_EQ(converged, r.settled[k]);
     ++k;
   }
   EXPECT_EQ(k, 30u);

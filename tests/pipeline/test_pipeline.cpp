@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -169,9 +170,46 @@ TEST(Pipeline, LocalizesALogAgainstTheFloorplan) {
   ASSERT_EQ(r.run.trajectory.size(), s.run.log.scans.size());
   const eval::TrajectoryErrors e = eval::evaluateTrajectory(s.run.ground_truth, r.run.trajectory);
   EXPECT_LT(e.rmse, 0.05);
+  // Started at the true pose, the cloud is one tight mode throughout.
+  EXPECT_TRUE(r.run.converged);
+  EXPECT_DOUBLE_EQ(r.run.converged_at, 0.0);
+  EXPECT_EQ(std::count(r.run.settled.begin(), r.run.settled.end(), 1), static_cast<long>(r.run.settled.size()));
   EXPECT_THROW(localizeLog(s.run.log, VectorMap{}, o), Error);
   o.model = "telepathy";
   EXPECT_THROW(localizeLog(s.run.log, s.scene.map, o), Error);
+}
+
+TEST(Pipeline, GlobalLocalizationSaysWhetherItConverged) {
+  const sim::Scene scene = sim::loadScene(fs::path(GLASSMAP_SOURCE_DIR) / "maps" / "glass-corridor" / "scene.yaml");
+  LocalizeOptions o;
+  o.filter.filter.max_particles = 2000;  // no initial pose: global localization
+  // 4 s of a symmetric glass corridor: the cloud cannot settle, and the run says so.
+  sim::SimOptions brief;
+  brief.seed = 3;
+  brief.duration_limit = 4.0;
+  const sim::SimResult short_run = sim::simulate(scene, brief);
+  const LocalizeResult unsure = localizeLog(short_run.log, scene.map, o);
+  EXPECT_FALSE(unsure.run.converged);
+  EXPECT_LT(unsure.run.converged_at, 0.0);
+  EXPECT_EQ(std::count(unsure.run.settled.begin(), unsure.run.settled.end(), 1), 0);
+  // The whole run: converged, and every pose flagged as converged is right.
+  sim::SimOptions whole;
+  whole.seed = 1;
+  const sim::SimResult run = sim::simulate(scene, whole);
+  const LocalizeResult sure = localizeLog(run.log, scene.map, o);
+  ASSERT_TRUE(sure.run.converged);
+  EXPECT_GT(sure.run.converged_at, 0.0);
+  const eval::TrajectoryErrors e = eval::evaluateTrajectory(run.ground_truth, sure.run.trajectory);
+  std::size_t flagged = 0;
+  for (std::size_t k = 0; k < sure.run.trajectory.size(); ++k) {
+    if (!sure.run.settled[k]) continue;
+    ++flagged;
+    const double t = sure.run.trajectory[k].timestamp;
+    const auto it = std::find(e.times.begin(), e.times.end(), t);
+    ASSERT_NE(it, e.times.end());
+    EXPECT_LT(e.position_errors[static_cast<std::size_t>(it - e.times.begin())], 0.2) << "t " << t;
+  }
+  EXPECT_GT(flagged, sure.run.trajectory.size() / 2);
 }
 
 }  // namespace

@@ -31,6 +31,10 @@ struct LocalizeResult {
   std::vector<std::size_t> particles;    ///< particle count per scan
   std::vector<std::uint8_t> corrected;   ///< per scan: 1 when it was a measurement update
   std::vector<std::size_t> relocalized;  ///< per scan: global re-initialisations so far
+  std::vector<std::uint8_t> settled;     ///< per scan: 1 when the cloud is one tight mode (spread under
+                                         ///< converged_spread, no annealing) from this scan to the end
+  bool converged = false;                ///< the cloud ends as one tight mode: the estimate can be trusted
+  double converged_at = -1.0;            ///< time from the log's start after which it stays so [s]; -1 never
   std::size_t scans = 0;                 ///< scans read
   std::size_t updates = 0;               ///< measurement updates (corrections)
   std::size_t resamplings = 0;
