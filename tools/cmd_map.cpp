@@ -81,8 +81,18 @@ void run(MapArgs& args) {
   checkWritableDirectory(args.out);
   CarmenReadOptions read;
   read.laser_id = args.laser_id;
+  read.max_memory_bytes = static_cast<std::size_t>(args.max_memory_mb * 1e6);  // the log counts too
   if (show_progress) std::cerr << "reading " << args.log << "...\n";
-  const LaserLog log = readCarmenLog(args.log, read);
+  const LaserLog log = [&] {
+    try {
+      return readCarmenLog(args.log, read);
+    } catch (const Error& e) {
+      if (e.message().find("(the memory limit)") == std::string::npos) throw;
+      throw Error(e.message() + ": raise --max-memory (now " +
+                      std::to_string(static_cast<long long>(args.max_memory_mb)) + " MB) or map a part of the log",
+                  e.file(), e.line(), e.field());
+    }
+  }();
   const double seconds_read = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // Options given as names are parsed here, at the edge.
@@ -90,7 +100,9 @@ void run(MapArgs& args) {
   options.method = pipeline::parseMapMethod(args.method);
   options.mrf.solver = mrf::parseSolver(args.mrf_solver);
   options.mrf.psi = mrf::parsePsi(args.mrf_psi);
-  options.mapping.max_memory_bytes = static_cast<std::size_t>(args.max_memory_mb * 1e6);
+  // The grid gets what the log leaves of the budget.
+  const std::size_t budget = static_cast<std::size_t>(args.max_memory_mb * 1e6);
+  options.mapping.max_memory_bytes = budget > log.memoryBytes() ? budget - log.memoryBytes() : 1;
   options.fit_floorplan = args.vectorize;
   const bool use_mrf = options.method == pipeline::MapMethod::Mrf;
   auto progress = [&](const char* stage, double f) {
@@ -230,7 +242,8 @@ const cli::Registrar reg(40, [](CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--resolution", o.resolution, "cell size [m]")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--max-memory", args->max_memory_mb,
-                  "refuse up front a grid whose dense layers would need more than this [MB]")
+                  "memory budget [MB]: the log in memory (counted while reading) plus the grid's dense\n"
+                  "layers (checked before they are allocated); a run over it stops with the figure")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_option("--angle-bin", o.angle_bin_deg, "incidence-angle bin width [deg], divides 180")

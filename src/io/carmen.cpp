@@ -374,7 +374,15 @@ LogReadStats forEachCarmenRecord(const fs::path& path, const CarmenCallbacks& ca
 LaserLog readCarmenLog(const fs::path& path, const CarmenReadOptions& options) {
   LaserLog log;
   CarmenCallbacks cb;
-  cb.on_scan = [&](LaserScan&& s) { log.scans.push_back(std::move(s)); };
+  std::size_t bytes = 0;  // the log in memory, counted as it grows
+  cb.on_scan = [&](LaserScan&& s) {
+    bytes += sizeof(LaserScan) + s.ranges.size() * sizeof(float);
+    if (options.max_memory_bytes > 0 && bytes > options.max_memory_bytes)
+      throw Error("the log needs more than " + std::to_string(options.max_memory_bytes / 1000000) +
+                      " MB in memory after " + std::to_string(log.scans.size()) + " scans (the memory limit)",
+                  path.string());
+    log.scans.push_back(std::move(s));
+  };
   cb.on_odometry = [&](const StampedPose& p) { log.odometry.push_back(p); };
   cb.on_true_pose = [&](const StampedPose& p) { log.true_poses.push_back(p); };
   cb.on_param = [&](const std::string& k, const std::string& v) { log.params[k] = v; };

@@ -56,6 +56,13 @@ check "map on a full disk keeps the previous set" [ "$(cd "$work/map" && md5sum 
 check "map on a full disk leaves no staging folder" no_hidden "$work/map"
 check "map's error names the user's folder" grep -q "$work/map/" "$work/map.log"
 
+# The log counts in --max-memory: a log over it stops while it is read, naming the limit.
+"$glassmap" map "$work/sim/log.clf" -o "$work/map-small" -q --max-memory 2 > "$work/memory.log" 2>&1
+rc=$?
+check "map stops a log over --max-memory" [ $rc -ne 0 ]
+check "... naming the limit" grep -q "needs more than 2 MB in memory.*raise --max-memory" "$work/memory.log"
+check "... and writes nothing" [ ! -e "$work/map-small/stats.json" ]
+
 # An output folder that cannot be created fails before the log is read.
 touch "$work/a-file"
 "$glassmap" map "$work/sim/log.clf" -o "$work/a-file/map" > "$work/unwritable.log" 2>&1

@@ -68,6 +68,12 @@ struct LogReadStats {
 
 /// A whole log in memory.
 struct LaserLog {
+  /// Bytes the scans hold (ranges and per-scan records; what a mapping run keeps) [bytes].
+  std::size_t memoryBytes() const {
+    std::size_t b = scans.size() * sizeof(LaserScan) + (odometry.size() + true_poses.size()) * sizeof(StampedPose);
+    for (const LaserScan& s : scans) b += s.ranges.size() * sizeof(float);
+    return b;
+  }
   std::vector<LaserScan> scans;
   std::vector<StampedPose> odometry;          ///< ODOM lines
   std::vector<StampedPose> true_poses;        ///< TRUEPOS lines

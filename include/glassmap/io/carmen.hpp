@@ -16,10 +16,12 @@ namespace glassmap {
 
 /// Options of the CARMEN readers.
 struct CarmenReadOptions {
-  int laser_id = 0;               ///< keep only scans of this laser (1 front, 2 rear, n for RAWLASERn); 0 keeps all
-  double flaser_max_range = 0.0;  ///< max range of FLASER/RLASER scans [m]; 0: PARAM robot_front_laser_max /
-                                  ///< robot_rear_laser_max when the log has it, else 80 (CARMEN's own guess)
-  bool require_scans = true;      ///< readCarmenLog throws Error when the log holds no scan (empty file included)
+  int laser_id = 0;                  ///< keep only scans of this laser (1 front, 2 rear, n for RAWLASERn); 0 keeps all
+  double flaser_max_range = 0.0;     ///< max range of FLASER/RLASER scans [m]; 0: PARAM robot_front_laser_max /
+                                     ///< robot_rear_laser_max when the log has it, else 80 (CARMEN's own guess)
+  bool require_scans = true;         ///< readCarmenLog throws Error when the log holds no scan (empty file included)
+  std::size_t max_memory_bytes = 0;  ///< readCarmenLog throws Error, while reading, once the log in memory
+                                     ///< passes this (see memoryBytes) [bytes]; 0: no limit
 };
 
 /// Callbacks of the streaming reader; any may be empty. A scan is handed over by rvalue: move from it.
