@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -83,6 +84,42 @@ std::size_t peakMemoryBytes() {
   rusage usage{};
   ::getrusage(RUSAGE_SELF, &usage);
   return static_cast<std::size_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+nlohmann::json profileJson(const SensorProfile& p) {
+  nlohmann::json j = {{"source", p.source},
+                      {"wall_beams", p.wall_beams},
+                      {"glass_beams", p.glass_beams},
+                      {"fitted", nlohmann::json::array()}};
+  const std::pair<const char*, const Estimate*> fields[] = {{"range_sigma_m", &p.range_sigma_m},
+                                                            {"w_hit", &p.w_hit},
+                                                            {"w_short", &p.w_short},
+                                                            {"w_max", &p.w_max},
+                                                            {"w_rand", &p.w_rand},
+                                                            {"lambda_short", &p.lambda_short},
+                                                            {"direct_peak", &p.direct_peak},
+                                                            {"direct_sigma_deg", &p.direct_sigma_deg},
+                                                            {"direct_floor", &p.direct_floor},
+                                                            {"normal_lambda_per_deg", &p.normal_lambda_per_deg},
+                                                            {"normal_floor", &p.normal_floor},
+                                                            {"glass_offset_m", &p.glass_offset_m}};
+  for (const auto& [key, e] : fields) {
+    j[key] = e->value;
+    j[std::string(key) + "_se"] = e->se;
+    if (e->fitted) j["fitted"].push_back(key);
+  }
+  return j;
+}
+
+std::string profileSummary(const SensorProfile& p) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "range sigma %.3f m, hit/short/max/rand %.2f/%.2f/%.2f/%.2f; glass lobe peak %.2f sigma %.1f deg "
+                "floor %.3f, reflected lambda %.3f/deg floor %.2f",
+                p.range_sigma_m.value, p.w_hit.value, p.w_short.value, p.w_max.value, p.w_rand.value,
+                p.direct_peak.value, p.direct_sigma_deg.value, p.direct_floor.value, p.normal_lambda_per_deg.value,
+                p.normal_floor.value);
+  return buf;
 }
 
 }  // namespace glassmap::cli

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "glassmap/core/pose2.hpp"
+#include "glassmap/core/sensor_profile.hpp"
 #include "glassmap/geometry/vector_map.hpp"
 
 namespace glassmap::cli {
@@ -43,6 +44,12 @@ void addUnitsOption(CLI::App& cmd, std::string& units);
 
 /// Parses "x,y,theta" [m, m, rad]; throws Error naming `field` otherwise.
 Pose2 parsePose(const std::string& text, const std::string& field);
+
+/// The profile as JSON: {"range_sigma_m": v, "range_sigma_m_se": se, ..., "fitted": [...], "source": ...}.
+nlohmann::json profileJson(const SensorProfile& p);
+
+/// One line for a summary: "range sigma 0.012 m, glass lobe peak 0.90 sigma 2.1 deg floor 0.000, ...".
+std::string profileSummary(const SensorProfile& p);
 
 /// True when stderr is a terminal (progress is shown only then).
 bool stderrIsTerminal();

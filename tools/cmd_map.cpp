@@ -9,6 +9,7 @@
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/io/carmen.hpp"
+#include "glassmap/io/sensor_profile.hpp"
 #include "glassmap/pipeline/map_files.hpp"
 #include "glassmap/pipeline/map_log.hpp"
 
@@ -27,6 +28,7 @@ struct MapArgs {
   bool quiet = false;
   bool vectorize = true;
   double max_memory_mb = 4096.0;
+  std::string sensor;
   pipeline::MapOptions options;
 };
 
@@ -104,6 +106,7 @@ void run(MapArgs& args) {
   const std::size_t budget = static_cast<std::size_t>(args.max_memory_mb * 1e6);
   options.mapping.max_memory_bytes = budget > log.memoryBytes() ? budget - log.memoryBytes() : 1;
   options.fit_floorplan = args.vectorize;
+  if (!args.sensor.empty()) options.sensor = readSensorProfile(args.sensor);
   const bool use_mrf = options.method == pipeline::MapMethod::Mrf;
   auto progress = [&](const char* stage, double f) {
     if (!show_progress) return;
@@ -151,7 +154,11 @@ void run(MapArgs& args) {
                         {"mrf", refined.seconds},
                         {"phantoms", result.seconds.phantoms},
                         {"vectorize", floorplan.stats.seconds},
+                        {"calibration", result.seconds.calibration},
                         {"total", seconds}}},
+                      {"sensor", cli::profileJson(result.profile)},
+                      {"calibrated", result.calibrated},
+                      {"calibration_warnings", result.calibration.warnings},
                       {"mrf_changed_cells", refined.changed},
                       {"mrf_energy", {{"before", refined.energy_before}, {"after", refined.energy_after}}},
                       {"mirror_phantoms",
@@ -170,6 +177,9 @@ void run(MapArgs& args) {
   if (!args.quiet) {
     std::printf("%-22s %s\n", "method", args.method.c_str());
     std::printf("%-22s %zu\n", "scans", st.scans);
+    std::printf("%-22s %s: %s\n", "sensor",
+                result.calibrated ? "calibrated" : (options.sensor ? args.sensor.c_str() : "default profile"),
+                cli::profileSummary(result.profile).c_str());
     std::printf("%-22s %zu\n", "beams", st.beams);
     std::printf("%-22s %d x %d (%.3f m)\n", "grid", e.geometry.width, e.geometry.height, e.geometry.resolution);
     std::printf("%-22s %zu\n", "cells observed", st.observed_cells);
@@ -186,12 +196,13 @@ void run(MapArgs& args) {
       std::printf("%-22s %zu glass, %zu wall\n", "segments", floorplan.map.count(Material::Glass),
                   floorplan.map.count(Material::Wall));
     std::printf(
-        "%-22s %.2f (read %.2f, counts %.2f, angles %.2f, classify %.2f, mrf %.2f, phantoms %.2f, vectorize %.2f)\n",
-        "seconds", seconds, seconds_read, st.seconds_counts, st.seconds_angles, st.seconds_classify, refined.seconds,
-        result.seconds.phantoms, floorplan.stats.seconds);
+        "%-22s %.2f (read %.2f, calibration %.2f; last pass: counts %.2f, angles %.2f, classify %.2f, mrf %.2f, "
+        "phantoms %.2f, vectorize %.2f)\n",
+        "seconds", seconds, seconds_read, result.seconds.calibration, st.seconds_counts, st.seconds_angles,
+        st.seconds_classify, refined.seconds, result.seconds.phantoms, floorplan.stats.seconds);
     std::printf("%-22s %.1f MB\n", "peak memory", static_cast<double>(peak) / 1e6);
-    std::printf("%-22s %s/{map.yaml,map.pgm,labels.tif,map.png,stats.json%s}\n", "wrote", dir.string().c_str(),
-                args.vectorize ? ",floorplan.{gpkg,geojson,dxf,svg,png}" : "");
+    std::printf("%-22s %s/{map.yaml,map.pgm,labels.tif,map.png,sensor.yaml,stats.json%s}\n", "wrote",
+                dir.string().c_str(), args.vectorize ? ",floorplan.{gpkg,geojson,dxf,svg,png}" : "");
   }
 }
 
@@ -201,7 +212,8 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "map",
       "Map a laser log into an occupancy grid with glass cells (paper 2.5.3-2.5.5) and a vector floorplan:\n"
-      "DIR/map.yaml + map.pgm (ROS, glass as occupied), labels.tif (GeoTIFF codes), map.png, stats.json,\n"
+      "DIR/map.yaml + map.pgm (ROS, glass as occupied), labels.tif (GeoTIFF codes), map.png, sensor.yaml\n"
+      "(the fitted sensor profile), stats.json, "
       "floorplan.{gpkg,geojson,dxf,svg,png}.");
   cmd->add_option("log", args->log, "CARMEN log (.clf/.log, optionally .gz) with SLAM-corrected laser poses")
       ->required()
@@ -276,6 +288,18 @@ const cli::Registrar reg(40, [](CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--heuristic-min-misses", o.heuristic.min_other_misses, "heuristic: misses outside the window")
       ->capture_default_str();
+  cmd->add_option("--sensor", args->sensor,
+                  "sensor profile YAML (from `glassmap calibrate`, or a map folder's sensor.yaml): its range\n"
+                  "noise and glass lobe set the thresholds; one pass, no calibration")
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("!--no-calibrate", args->options.calibrate,
+                "map once with the default thresholds (a 1-2 cm laser with a 2 deg glass lobe). By default\n"
+                "a first pass maps the log, the sensor profile is fitted against its floorplan (as\n"
+                "`glassmap calibrate`), and the log is mapped again with the thresholds the profile sets.\n"
+                "Options given explicitly (--direct-sigma, --miss-margin, ...) are kept either way");
+  cmd->add_option("--calibration-rounds", args->options.calibration_rounds, "fit and re-map this many times")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 5));
   cmd->add_flag("-q,--quiet", args->quiet, "no progress, no summary");
   cmd->callback([args] { run(*args); });
 });

@@ -8,6 +8,7 @@
 #include "glassmap/core/error.hpp"
 #include "glassmap/core/labels.hpp"
 #include "glassmap/io/render_labels.hpp"
+#include "glassmap/io/sensor_profile.hpp"
 #include "glassmap/vector/export.hpp"
 
 namespace glassmap::pipeline {
@@ -53,6 +54,7 @@ std::vector<std::filesystem::path> writeMapFiles(const std::filesystem::path& di
     writeRosMap(staging / "map.yaml", toRosMap(e));
     writeLabelRaster(staging / "labels.tif", toLabelRaster(e));
     writeLabelsPng(staging / "map.png", e.geometry.width, e.geometry.height, e.label, e.bins);
+    writeSensorProfile(staging / "sensor.yaml", result.profile);
     if (floorplan_files && result.has_floorplan) vector::writeFloorplanSet(staging / "floorplan", result.floorplan.map);
     for (const auto& entry : fs::directory_iterator(staging)) names.push_back(entry.path().filename());
   } catch (const Error& err) {

@@ -1,5 +1,6 @@
 #include "glassmap/pipeline/map_log.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include "glassmap/core/error.hpp"
@@ -26,32 +27,22 @@ Vec2 localOffset(const LaserLog& log) {
   return (centre / 64.0).array().round().matrix() * 64.0;
 }
 
-}  // namespace
-
-const char* toString(MapMethod method) {
-  switch (method) {
-    case MapMethod::Heuristic: return "heuristic";
-    case MapMethod::Direct: return "direct";
-    case MapMethod::Mrf: return "mrf";
-  }
-  return "?";
-}
-
-MapMethod parseMapMethod(const std::string& name) {
-  for (MapMethod m : {MapMethod::Heuristic, MapMethod::Direct, MapMethod::Mrf})
-    if (name == toString(m)) return m;
-  throw Error("unknown mapping method '" + name + "' (expected heuristic, direct or mrf)", {}, 0, "method");
-}
-
-MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progress& progress) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const Vec2 offset = localOffset(input);
+// A log re-centred on its poses (see localOffset), or the log itself.
+struct LocalLog {
+  Vec2 offset;
   LaserLog shifted;
-  if (!offset.isZero()) {
+  const LaserLog* log;
+  explicit LocalLog(const LaserLog& input) : offset(localOffset(input)), log(&input) {
+    if (offset.isZero()) return;
     shifted.scans = input.scans;
     for (LaserScan& s : shifted.scans) s.laser_pose.t -= offset;
+    log = &shifted;
   }
-  const LaserLog& log = offset.isZero() ? input : shifted;
+};
+
+// One pass of the chain over a log already in its local frame.
+MapResult mapOnce(const LaserLog& log, const MapOptions& options, const Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
   auto report = [&](const char* stage, double f) {
     if (progress) progress(stage, f);
   };
@@ -96,19 +87,161 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
   if (options.prune_unfitted_glass)
     out.pruned_glass = vector::pruneUnfittedGlass(out.evidence, out.floorplan.map, options.prune_tolerance);
 
-  // Back to the log's frame.
-  if (!offset.isZero()) {
-    out.evidence.geometry.origin += offset;
-    for (MapSegment& seg : out.floorplan.map.segments) {
-      seg.a += offset;
-      seg.b += offset;
-    }
-  }
-
   // The later steps relabel cells: count what comes out.
   out.stats.glass_cells = out.evidence.countGlass();
   out.stats.occupied_cells = out.evidence.countOccupied();
   out.seconds.total = secondsSince(t0);
+  return out;
+}
+
+// Fits the profile against a pass's floorplan; false (the reason in fit.warnings) when it has no wall.
+bool fitProfile(const LaserLog& log, const VectorMap& plan, const MapOptions& options, const SensorProfile& prior,
+                sensor::CalibrationResult& fit) {
+  if (std::none_of(plan.segments.begin(), plan.segments.end(),
+                   [](const MapSegment& s) { return s.material == Material::Wall; })) {
+    fit = {};
+    fit.profile = prior;
+    fit.warnings.push_back("the first pass found no wall to calibrate against: default sensor profile kept");
+    return false;
+  }
+  sensor::CalibrationOptions c = options.calibration;
+  c.prior = prior;
+  c.sigma_source = sensor::SigmaSource::Local;  // the plan was mapped from this very log
+  fit = sensor::calibrate(log, plan, c);
+  return true;
+}
+
+void countSegments(const VectorMap& plan, std::size_t& walls, std::size_t& panes) {
+  for (const MapSegment& s : plan.segments) ++(s.material == Material::Wall ? walls : panes);
+}
+
+}  // namespace
+
+const char* toString(MapMethod method) {
+  switch (method) {
+    case MapMethod::Heuristic: return "heuristic";
+    case MapMethod::Direct: return "direct";
+    case MapMethod::Mrf: return "mrf";
+  }
+  return "?";
+}
+
+MapMethod parseMapMethod(const std::string& name) {
+  for (MapMethod m : {MapMethod::Heuristic, MapMethod::Direct, MapMethod::Mrf})
+    if (name == toString(m)) return m;
+  throw Error("unknown mapping method '" + name + "' (expected heuristic, direct or mrf)", {}, 0, "method");
+}
+
+void applyProfile(MapOptions& o, const SensorProfile& p) {
+  const MapOptions defaults;
+  const double res = o.mapping.resolution;
+  const double sigma = p.range_sigma_m.value;
+  // A value the caller changed from its default is kept; a default follows the profile.
+  auto set = [](double& field, double default_value, double from_profile) {
+    if (field == default_value) field = from_profile;
+  };
+  const glass::DirectOptions& dd = defaults.mapping.direct;
+  glass::DirectOptions& d = o.mapping.direct;
+  set(d.direct_sigma_deg, dd.direct_sigma_deg, p.direct_sigma_deg.value);
+  set(d.direct_peak, dd.direct_peak, std::clamp(p.direct_peak.value, 0.05, 0.999));
+  set(d.lobe_floor, dd.lobe_floor, std::max(dd.lobe_floor, std::min(p.direct_floor.value, 0.5)));
+  // Range noise: a reading lands within 3 sigma of its surface.
+  set(d.sigmoid_margin, dd.sigmoid_margin, std::max(dd.sigmoid_margin, 3.0 * sigma / res));
+  set(o.mapping.beams.miss_margin, defaults.mapping.beams.miss_margin,
+      std::max(defaults.mapping.beams.miss_margin, 3.0 * sigma));
+  set(o.phantom.glass_margin, defaults.phantom.glass_margin, std::max(defaults.phantom.glass_margin, 3.0 * sigma));
+  set(o.phantom.block_margin, defaults.phantom.block_margin, std::max(defaults.phantom.block_margin, 6.0 * sigma));
+  set(o.vectorize.noise_floor, defaults.vectorize.noise_floor, std::max(defaults.vectorize.noise_floor, sigma / res));
+  set(o.vectorize.glass.max_distance, defaults.vectorize.glass.max_distance,
+      std::max(defaults.vectorize.glass.max_distance, 2.5 * sigma));
+  set(o.vectorize.wall.max_distance, defaults.vectorize.wall.max_distance,
+      std::max(defaults.vectorize.wall.max_distance, 2.5 * sigma));
+}
+
+MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const LocalLog local(input);
+  const LaserLog& log = *local.log;
+  MapResult out;
+  const bool calibrating = !options.sensor && options.calibrate && options.calibration_rounds > 0;
+  if (options.sensor) {
+    MapOptions o = options;
+    applyProfile(o, *options.sensor);
+    out = mapOnce(log, o, progress);
+    out.profile = *options.sensor;
+  } else if (calibrating) {
+    MapOptions first = options;
+    first.fit_floorplan = true;
+    MapResult pass = mapOnce(log, first, progress);
+    SensorProfile profile;
+    sensor::CalibrationResult fit;
+    for (int round = 0; round < options.calibration_rounds; ++round) {
+      if (progress) progress("calibrate", 0.0);
+      if (!fitProfile(log, pass.floorplan.map, options, profile, fit)) break;
+      if (progress) progress("calibrate", 1.0);
+      out.calibrated = true;
+      profile = fit.profile;
+      profile.source = "calibrated from the log";
+      MapOptions o = options;
+      applyProfile(o, profile);
+      pass = mapOnce(log, o, progress);
+    }
+    const bool calibrated = out.calibrated;
+    out = std::move(pass);
+    out.calibrated = calibrated;
+    out.profile = profile;
+    out.calibration = std::move(fit);
+  } else {
+    out = mapOnce(log, options, progress);
+  }
+
+  // Back to the log's frame.
+  if (!local.offset.isZero()) {
+    out.evidence.geometry.origin += local.offset;
+    for (MapSegment& seg : out.floorplan.map.segments) {
+      seg.a += local.offset;
+      seg.b += local.offset;
+    }
+  }
+  const double last_pass = out.seconds.total;
+  out.seconds.total = secondsSince(t0);
+  if (calibrating) out.seconds.calibration = out.seconds.total - last_pass;
+  return out;
+}
+
+CalibrateLogResult calibrateLog(const LaserLog& input, const VectorMap* floorplan, const MapOptions& options,
+                                const Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CalibrateLogResult out;
+  if (floorplan) {
+    out.fit = sensor::calibrate(input, *floorplan, options.calibration);
+    out.rounds = 1;
+    countSegments(*floorplan, out.floorplan_walls, out.floorplan_panes);
+  } else {
+    MapOptions o = options;
+    o.sensor.reset();
+    o.calibrate = true;
+    o.calibration_rounds = std::max(1, options.calibration_rounds);
+    const MapResult map = mapLog(input, o, progress);
+    if (!map.calibrated)
+      throw Error("cannot calibrate: " +
+                  (map.calibration.warnings.empty() ? std::string("no wall") : map.calibration.warnings.front()));
+    // The profile the final pass used, refitted once more against that pass's floorplan.
+    const LocalLog local(input);
+    VectorMap plan = map.floorplan.map;
+    for (MapSegment& s : plan.segments) {
+      s.a -= local.offset;
+      s.b -= local.offset;
+    }
+    if (progress) progress("calibrate", 0.0);
+    if (!fitProfile(*local.log, plan, o, map.profile, out.fit))
+      throw Error("cannot calibrate: the map of the log has no wall");
+    if (progress) progress("calibrate", 1.0);
+    out.own_floorplan = true;
+    out.rounds = o.calibration_rounds + 1;
+    countSegments(plan, out.floorplan_walls, out.floorplan_panes);
+  }
+  out.seconds = secondsSince(t0);
   return out;
 }
 

@@ -23,7 +23,8 @@ LabelRaster toLabelRaster(const glass::CellEvidence& evidence);
 /// stats.json): writeMapFiles removes it first, so a folder without it holds an incomplete set.
 inline constexpr const char* kMapManifest = "stats.json";
 
-/// Writes into `dir` (created if missing): map.yaml + map.pgm, labels.tif, map.png and, when
+/// Writes into `dir` (created if missing): map.yaml + map.pgm, labels.tif, map.png, sensor.yaml
+/// (the sensor profile the map was made with: reuse it with --sensor) and, when
 /// `floorplan_files` and the result has a floorplan, floorplan.{gpkg,geojson,dxf,svg,png}.
 /// Everything is first written into a hidden staging folder inside `dir`; only when every file is
 /// complete is the previous run's manifest (kMapManifest) removed, each file renamed into place,

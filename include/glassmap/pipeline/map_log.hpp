@@ -9,12 +9,15 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "glassmap/core/laser_scan.hpp"
+#include "glassmap/core/sensor_profile.hpp"
 #include "glassmap/glass/mapping.hpp"
 #include "glassmap/glass/phantoms.hpp"
 #include "glassmap/mrf/refine.hpp"
+#include "glassmap/sensor/calibrate.hpp"
 #include "glassmap/vector/vectorize.hpp"
 
 namespace glassmap::pipeline {
@@ -39,33 +42,68 @@ struct MapOptions {
                                      ///< label (fits the floorplan even when fit_floorplan is off)
   double prune_tolerance = 0.10;     ///< ... farther than this from every glass segment [m]
   vector::VectorizeOptions vectorize;
+  /// The laser's profile. Unset and `calibrate` on (the default): a first pass maps the log with
+  /// the default thresholds, the profile is fitted against that pass's floorplan
+  /// (sensor/calibrate.hpp), and the map is made again with the thresholds the profile sets
+  /// (applyProfile). Set: used as is, one pass.
+  std::optional<SensorProfile> sensor;
+  bool calibrate = true;
+  int calibration_rounds = 1;  ///< fit, re-map: this many times
+  sensor::CalibrationOptions calibration;
 };
+
+/// Sets every sensor-dependent threshold of the mapping steps from a profile, in the units of
+/// the grid (options.mapping.resolution): the direct classifier's lobe (peak, sigma, floor), the
+/// miss margin and sigmoid margin (range noise), the phantom test's margins and the vectorizer's
+/// noise floor and line distance. Values are never set below the defaults tuned for a 1-2 cm
+/// laser, so a precise laser keeps today's behaviour; a field the caller changed from its
+/// default (an explicit command-line option) is kept as given.
+void applyProfile(MapOptions& options, const SensorProfile& profile);
 
 /// Wall-clock time of each step [s].
 struct MapTimes {
   double counts = 0.0, angles = 0.0, classify = 0.0;  ///< grid passes and classifier
   double mrf = 0.0, phantoms = 0.0, vectorize = 0.0;  ///< later steps (0 when skipped)
+  double calibration = 0.0;                           ///< first passes and profile fits (0 when skipped)
   double total = 0.0;                                 ///< the whole call
 };
 
 /// The outcome of mapping one log.
 struct MapResult {
-  glass::CellEvidence evidence;       ///< final labels (after every step) and costs
-  glass::MappingStats stats;          ///< grid and classifier figures; glass/occupied counts are final
-  mrf::RefineResult mrf;              ///< MRF figures (zero unless method == Mrf)
-  glass::PhantomStats phantoms;       ///< mirror-phantom figures (zero when skipped)
-  vector::VectorizeResult floorplan;  ///< the fitted floorplan (empty unless fitted)
-  bool has_floorplan = false;         ///< the floorplan was fitted
-  std::size_t pruned_glass = 0;       ///< glass cells the pane fit relabelled
+  glass::CellEvidence evidence;           ///< final labels (after every step) and costs
+  glass::MappingStats stats;              ///< grid and classifier figures; glass/occupied counts are final
+  mrf::RefineResult mrf;                  ///< MRF figures (zero unless method == Mrf)
+  glass::PhantomStats phantoms;           ///< mirror-phantom figures (zero when skipped)
+  vector::VectorizeResult floorplan;      ///< the fitted floorplan (empty unless fitted)
+  bool has_floorplan = false;             ///< the floorplan was fitted
+  std::size_t pruned_glass = 0;           ///< glass cells the pane fit relabelled
+  SensorProfile profile;                  ///< the profile the final pass used
+  bool calibrated = false;                ///< profile was fitted from this log
+  sensor::CalibrationResult calibration;  ///< the last fit (when calibrated)
   MapTimes seconds;
 };
 
 /// progress(stage, fraction): "counts" and "angles" report fractions in [0, 1]; "mrf",
-/// "phantoms" and "vectorize" report 0 when they start and 1 when they end.
+/// "phantoms", "vectorize" and "calibrate" report 0 when they start and 1 when they end.
 using Progress = std::function<void(const char* stage, double fraction)>;
 
 /// Maps a log with the laser poses of its scans. Throws Error for bad options or a log with no
 /// scans, and before allocating a grid larger than options.mapping.max_memory_bytes allows.
 MapResult mapLog(const LaserLog& log, const MapOptions& options = {}, const Progress& progress = {});
+
+/// What calibrateLog fitted and against what.
+struct CalibrateLogResult {
+  sensor::CalibrationResult fit;
+  bool own_floorplan = false;                            ///< fitted against a floorplan mapped from the log itself
+  std::size_t floorplan_walls = 0, floorplan_panes = 0;  ///< segments it was fitted against
+  int rounds = 0;                                        ///< fit / re-map rounds done
+  double seconds = 0.0;
+};
+
+/// The sensor profile of a log's laser: against `floorplan` when given (map frame of the log's
+/// laser poses), otherwise against the floorplan mapLog makes of the log, refitted
+/// options.calibration_rounds times. Throws Error as mapLog and calibrate do.
+CalibrateLogResult calibrateLog(const LaserLog& log, const VectorMap* floorplan, const MapOptions& options = {},
+                                const Progress& progress = {});
 
 }  // namespace glassmap::pipeline

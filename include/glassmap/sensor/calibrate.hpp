@@ -1,0 +1,65 @@
+#pragma once
+/// Self-calibration: a sensor profile (core/sensor_profile.hpp) estimated from a log against a
+/// floorplan, so that no stage has to assume the laser the classifiers were first tuned with.
+///
+///  1. Each scan's pose is refined against the floorplan's walls (point-to-line Gauss-Newton,
+///     damped towards the logged pose), so that pose error does not pass for range noise.
+///  2. Beams whose first surface is a wall: EM over the beam-model mixture (Probabilistic Robotics
+///     6.3, table 6.2) gives sigma_hit, the hit/short/max/random weights and lambda_short.
+///  3. Beams whose first surface is glass: each reading is matched to the pane (direct return), the
+///     mirrored ray (reflection) or the continued ray (refraction). Binomial maximum likelihood fits
+///     P(direct | theta) = floor + (peak - floor) exp(-theta^2 / 2 sigma^2) and, for beams that did
+///     not come back from the pane, P(reflected | theta) = floor + (1 - floor) exp(-lambda (90 - theta));
+///     the median extra range of refracted readings is the offset through a pane.
+///
+/// Standard errors come from the inverse observed information of each fit. Parameters the log
+/// cannot tell (too few glass beams, no reflection ever possible) keep the prior's value and are
+/// marked not fitted.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "glassmap/core/laser_scan.hpp"
+#include "glassmap/core/sensor_profile.hpp"
+#include "glassmap/geometry/vector_map.hpp"
+
+namespace glassmap::sensor {
+
+/// Where sigma_hit comes from: the residuals against the floorplan's walls (EM), or the spread of
+/// neighbouring readings within each scan (no map involved: neither the floorplan's drawing error
+/// nor pose error enters it; the choice when the floorplan was mapped from the same log).
+enum class SigmaSource { Walls, Local };
+
+struct CalibrationOptions {
+  SigmaSource sigma_source = SigmaSource::Walls;
+  std::size_t max_scans = 1500;         ///< scans used, spread evenly over the log
+  bool align_scans = true;              ///< refine each scan's pose against the walls first
+  double align_gate_m = 0.30;           ///< alignment: readings this close to the expected wall [m]
+  double max_fit_incidence_deg = 65.0;  ///< wall beams steeper than this stay out of the sigma fit
+  double gate_sigmas = 4.0;             ///< a reading within this many sigma of a glass mode is that mode
+  double min_gate_m = 0.04;             ///< ... but at least this close [m]
+  std::size_t min_glass_beams = 300;    ///< fewer beams on glass: the glass parameters keep the prior
+  double chart_bin_deg = 2.0;           ///< width of the per-angle table [deg]
+  int em_iterations = 200;              ///< EM stops here or when no weight moves by 1e-6
+  SensorProfile prior;                  ///< values kept where the data cannot tell
+};
+
+struct CalibrationResult {
+  SensorProfile profile;
+  std::vector<GlassAngleBin> bins;    ///< the chart's table
+  std::size_t scans = 0;              ///< scans used
+  std::size_t aligned_scans = 0;      ///< scans whose pose alignment converged
+  double median_alignment_m = 0.0;    ///< median position change of the alignment [m]
+  double median_alignment_deg = 0.0;  ///< median heading change [deg]
+  std::size_t refracted_beams = 0;    ///< readings matched to the continued ray
+  double range_sigma_em_m = 0.0;      ///< sigma from the wall residuals (EM) [m]
+  double range_sigma_local_m = 0.0;   ///< sigma from neighbouring readings within scans [m] (0: too few)
+  std::vector<std::string> warnings;  ///< what could not be estimated, and why
+};
+
+/// Estimates the profile of the log's laser against `map` (scans at their laser poses, map frame).
+/// Throws Error when the log has no scan or the map no wall.
+CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const CalibrationOptions& options = {});
+
+}  // namespace glassmap::sensor
