@@ -49,6 +49,7 @@ nlohmann::json optionsJson(const MapArgs& a) {
             {"direct_sigma_deg", d.direct_sigma_deg},
             {"direct_peak", d.direct_peak},
             {"lobe_floor", d.lobe_floor},
+            {"direct_floor", d.direct_floor},
             {"p_hit_occ", d.p_hit_occ},
             {"p_hit_emp", d.p_hit_emp},
             {"occ_hit_floor", d.occ_hit_floor},

@@ -231,8 +231,11 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
   std::vector<double> log_hit(lobe.size()), log_miss(lobe.size());
   for (std::size_t d = 0; d < lobe.size(); ++d) {
     // A glass cell returns a beam by direct reflection, or by the same spurious causes as an
-    // empty cell (so glass never explains misses better than EMP does off the lobe).
-    const double q = lobe[d] + (1.0 - lobe[d]) * o.p_hit_emp;
+    // empty cell (so glass never explains misses better than EMP does off the lobe). A sensor's
+    // floor of direct returns at any angle is such a cause seen from the pane: the larger of the
+    // two rates explains off-lobe hits (they are not added: a floor fitted at or below the
+    // spurious rate changes nothing).
+    const double q = lobe[d] + (1.0 - lobe[d]) * std::max(o.p_hit_emp, o.direct_floor);
     log_hit[d] = std::log(q);
     log_miss[d] = std::log1p(-q);
   }

@@ -167,6 +167,12 @@ ScanRecords collect(const RayCaster& caster, const LaserScan& scan, const Calibr
       rec.walls.push_back({static_cast<float>(hit.range), std::min(z, static_cast<float>(z_max)),
                            static_cast<float>(z_max), std::cos(hit.incidence) >= cos_fit});
     } else {
+      // Pane ends are where a floorplan is least sure (a pane drawn a little long ends on a wall,
+      // whose returns would pass for direct returns at any angle): only beams meeting a pane
+      // away from its ends count.
+      const MapSegment& pane = caster.map().segments[static_cast<std::size_t>(hit.segment)];
+      const Vec2 at = pose.t + hit.range * d;
+      if (std::min((at - pane.a).norm(), (at - pane.b).norm()) < o.pane_end_margin_m) continue;
       GlassBeam b = glassModes(caster, pose.t, d, hit, z_max);
       b.z = z;
       rec.glass.push_back(b);

@@ -14,6 +14,7 @@
 #include "glassmap/eval/trajectory.hpp"
 #include "glassmap/io/labels_raster.hpp"
 #include "glassmap/io/ros_map.hpp"
+#include "glassmap/io/sensor_profile.hpp"
 #include "glassmap/pipeline/localize_log.hpp"
 #include "glassmap/pipeline/map_files.hpp"
 #include "glassmap/pipeline/map_log.hpp"
@@ -76,14 +77,17 @@ TEST(Pipeline, DefaultsRunEveryStepAndFindTheGlass) {
 
 TEST(Pipeline, IsTheChainOfItsStagesInOrder) {
   // The same steps called one by one give the same labels and the same floorplan.
+  // (The default run calibrates: its last pass used the thresholds of the fitted profile.)
   const LaserLog& log = corridor().run.log;
-  const MapOptions defaults;
+  const MapResult& r = defaultMap();
+  ASSERT_TRUE(r.calibrated);
+  MapOptions defaults;
+  applyProfile(defaults, r.profile);
   glass::MappingResult m = glass::mapLog(log, defaults.mapping);
   mrf::refine(m.evidence, defaults.mrf);
   glass::suppressMirrorPhantoms(log, defaults.mapping.beams, defaults.phantom, m.evidence);
   const vector::VectorizeResult v = vector::vectorize(vector::toLabelGrid(m.evidence), defaults.vectorize);
   const std::size_t pruned = vector::pruneUnfittedGlass(m.evidence, v.map, defaults.prune_tolerance);
-  const MapResult& r = defaultMap();
   EXPECT_EQ(r.evidence.label, m.evidence.label);
   EXPECT_EQ(r.pruned_glass, pruned);
   ASSERT_EQ(r.floorplan.map.segments.size(), v.map.segments.size());
@@ -117,14 +121,82 @@ TEST(Pipeline, StepsCanBeSwitchedOff) {
   EXPECT_NE(heuristic.evidence.label, pruned.evidence.label);
 }
 
+// A noisier laser with a wider, weaker glass lobe than the defaults assume.
+const Scene& noisyCorridor() {
+  static const Scene s = [] {
+    Scene x;
+    x.scene = sim::loadScene(fs::path(GLASSMAP_SOURCE_DIR) / "maps" / "paper-corridor" / "scene.yaml");
+    x.scene.laser.range_sigma = 0.03;
+    x.scene.glass.direct_sigma_deg = 4.0;
+    x.scene.glass.direct_peak = 0.55;
+    sim::SimOptions so;
+    so.seed = 1;
+    so.duration_limit = 60.0;
+    x.run = sim::simulate(x.scene, so);
+    return x;
+  }();
+  return s;
+}
+
+TEST(Pipeline, CalibratesToTheLaserAndMapsBetterForIt) {
+  const Scene& s = noisyCorridor();
+  const MapResult calibrated = mapLog(s.run.log);
+  ASSERT_TRUE(calibrated.calibrated);
+  const SensorProfile& p = calibrated.profile;
+  EXPECT_NEAR(p.range_sigma_m.value, 0.03, 0.25 * 0.03);
+  EXPECT_NEAR(p.direct_sigma_deg.value, 4.0, 0.25 * 4.0);
+  EXPECT_NEAR(p.direct_peak.value, 0.55, 0.1);
+  MapOptions fixed;
+  fixed.calibrate = false;
+  const MapResult uncalibrated = mapLog(s.run.log, fixed);
+  EXPECT_FALSE(uncalibrated.calibrated);
+  auto f1 = [&](const MapResult& r) {
+    return eval::evaluateCells(s.scene.map, r.evidence.geometry, r.evidence.label, r.evidence.bins).tolerant.f1;
+  };
+  const double with = f1(calibrated), without = f1(uncalibrated);
+  std::printf("noisy laser, 60 s of paper-corridor: glass cell F1@2 %.3f calibrated, %.3f with the defaults\n", with,
+              without);
+  EXPECT_GT(with, without + 0.03);
+  // A given profile is used as is, in one pass.
+  MapOptions given;
+  given.sensor = p;
+  const MapResult reused = mapLog(s.run.log, given);
+  EXPECT_FALSE(reused.calibrated);
+  EXPECT_EQ(reused.evidence.label, calibrated.evidence.label);
+}
+
+TEST(Pipeline, ApplyProfileKeepsWhatTheCallerSet) {
+  SensorProfile p;
+  p.range_sigma_m.value = 0.08;
+  p.direct_sigma_deg.value = 9.0;
+  p.direct_floor.value = 0.1;
+  MapOptions o;
+  o.mapping.direct.direct_peak = 0.42;  // set by the caller
+  applyProfile(o, p);
+  EXPECT_DOUBLE_EQ(o.mapping.direct.direct_peak, 0.42);
+  EXPECT_DOUBLE_EQ(o.mapping.direct.direct_sigma_deg, 9.0);
+  EXPECT_DOUBLE_EQ(o.mapping.direct.direct_floor, 0.1);
+  EXPECT_NEAR(o.mapping.beams.miss_margin, 0.24, 1e-12);
+  EXPECT_NEAR(o.vectorize.noise_floor, 0.08 / o.mapping.resolution, 1e-12);
+  // A precise laser keeps the defaults' margins.
+  MapOptions precise;
+  SensorProfile q;
+  q.range_sigma_m.value = 0.005;
+  applyProfile(precise, q);
+  EXPECT_DOUBLE_EQ(precise.mapping.beams.miss_margin, MapOptions{}.mapping.beams.miss_margin);
+  EXPECT_DOUBLE_EQ(precise.vectorize.noise_floor, MapOptions{}.vectorize.noise_floor);
+}
+
 TEST(Pipeline, MapFilesReadBackAsTheResult) {
   const MapResult& r = defaultMap();
   const fs::path dir = fs::temp_directory_path() / ("glassmap_pipeline_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   const auto written = writeMapFiles(dir, r);
-  for (const char* name : {"map.yaml", "map.pgm", "labels.tif", "map.png", "floorplan.gpkg", "floorplan.dxf"})
+  for (const char* name :
+       {"map.yaml", "map.pgm", "labels.tif", "map.png", "sensor.yaml", "floorplan.gpkg", "floorplan.dxf"})
     EXPECT_TRUE(fs::exists(dir / name)) << name;
-  EXPECT_EQ(written.size(), 4u + 5u);
+  EXPECT_EQ(written.size(), 5u + 5u);
+  EXPECT_DOUBLE_EQ(readSensorProfile(dir / "sensor.yaml").direct_sigma_deg.value, r.profile.direct_sigma_deg.value);
   const LabelRaster raster = readLabelRaster(dir / "labels.tif");
   EXPECT_EQ(raster.codes, toLabelRaster(r.evidence).codes);
   const OccupancyGridMap ros = readRosMap(dir / "map.yaml");
@@ -137,7 +209,7 @@ TEST(Pipeline, MapFilesReadBackAsTheResult) {
   fs::remove_all(dir);
   // Without floorplan files only the grid products are written.
   const auto grid_only = writeMapFiles(dir, r, false);
-  EXPECT_EQ(grid_only.size(), 4u);
+  EXPECT_EQ(grid_only.size(), 5u);
   EXPECT_FALSE(fs::exists(dir / "floorplan.gpkg"));
   fs::remove_all(dir);
 }

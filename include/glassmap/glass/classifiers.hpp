@@ -34,6 +34,8 @@ struct DirectOptions {
   double direct_sigma_deg = 2.0;  ///< angular sigma of the direct-reflection lobe [deg]
   double direct_peak = 0.9;       ///< P(return from the pane) at normal incidence
   double lobe_floor = 1e-3;       ///< least P(hit | glass) far off the lobe
+  double direct_floor = 0.0;      ///< the sensor's P(direct return) at any angle (sensor profile);
+                                  ///< off the lobe a glass cell returns max(direct_floor, p_hit_emp)
   double p_hit_occ = 0.7;         ///< P(a beam reaching an occupied cell ends there)
   double p_hit_emp = 0.02;        ///< P(a beam through an empty cell ends there): noise, people
   double occ_hit_floor = 1e-3;    ///< added to p_hit_occ * P_occ^t (a bounded penalty per beam)

@@ -39,6 +39,7 @@ struct CalibrationOptions {
   double max_fit_incidence_deg = 65.0;  ///< wall beams steeper than this stay out of the sigma fit
   double gate_sigmas = 4.0;             ///< a reading within this many sigma of a glass mode is that mode
   double min_gate_m = 0.04;             ///< ... but at least this close [m]
+  double pane_end_margin_m = 0.20;      ///< glass beams meeting a pane this close to an end are left out [m]
   std::size_t min_glass_beams = 300;    ///< fewer beams on glass: the glass parameters keep the prior
   double chart_bin_deg = 2.0;           ///< width of the per-angle table [deg]
   int em_iterations = 200;              ///< EM stops here or when no weight moves by 1e-6

@@ -1,0 +1,121 @@
+// Self-calibration against simulated lasers whose parameters are known.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "glassmap/core/error.hpp"
+#include "glassmap/sensor/calibrate.hpp"
+#include "glassmap/sim/scene.hpp"
+#include "glassmap/sim/simulator.hpp"
+
+namespace glassmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+sim::Scene corridor(double range_sigma, double lobe_sigma_deg, double peak) {
+  sim::Scene scene = sim::loadScene(fs::path(GLASSMAP_SOURCE_DIR) / "maps" / "glass-corridor" / "scene.yaml");
+  scene.laser.range_sigma = range_sigma;
+  scene.glass.direct_sigma_deg = lobe_sigma_deg;
+  scene.glass.direct_peak = peak;
+  return scene;
+}
+
+LaserLog simulateFor(const sim::Scene& scene, double seconds) {
+  sim::SimOptions o;
+  o.seed = 3;
+  o.duration_limit = seconds;
+  return sim::simulate(scene, o).log;
+}
+
+struct Case {
+  double range_sigma, lobe_sigma, peak;
+};
+
+class CalibrateLaser : public ::testing::TestWithParam<Case> {};
+
+TEST_P(CalibrateLaser, RecoversNoiseAndLobeAgainstTheTruePlan) {
+  const Case c = GetParam();
+  const sim::Scene scene = corridor(c.range_sigma, c.lobe_sigma, c.peak);
+  const LaserLog log = simulateFor(scene, 40.0);
+  const sensor::CalibrationResult r = sensor::calibrate(log, scene.map);
+  const SensorProfile& p = r.profile;
+  ASSERT_TRUE(p.range_sigma_m.fitted);
+  ASSERT_TRUE(p.direct_sigma_deg.fitted);
+  EXPECT_NEAR(p.range_sigma_m.value, c.range_sigma, 0.10 * c.range_sigma);
+  EXPECT_NEAR(r.range_sigma_local_m, c.range_sigma, 0.15 * c.range_sigma);
+  EXPECT_NEAR(p.direct_sigma_deg.value, c.lobe_sigma, 0.15 * c.lobe_sigma);
+  EXPECT_NEAR(p.direct_peak.value, c.peak, 0.06);
+  EXPECT_LT(p.direct_floor.value, 0.02);
+  // The standard errors are honest: the truth lies within a few of them (or they are tiny).
+  EXPECT_LT(std::abs(p.direct_sigma_deg.value - c.lobe_sigma), 6 * p.direct_sigma_deg.se + 0.05 * c.lobe_sigma);
+  EXPECT_GT(p.w_hit.value, 0.9);
+  EXPECT_EQ(r.aligned_scans, r.scans);
+}
+
+INSTANTIATE_TEST_SUITE_P(Lasers, CalibrateLaser,
+                         ::testing::Values(Case{0.01, 2.0, 0.9}, Case{0.03, 4.0, 0.55}, Case{0.02, 10.0, 0.7}));
+
+TEST(Calibrate, AlignmentKeepsPoseErrorOutOfTheRangeNoise) {
+  const sim::Scene scene = corridor(0.01, 2.0, 0.9);
+  LaserLog log = simulateFor(scene, 30.0);
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (LaserScan& s : log.scans)
+    s.laser_pose = Pose2(s.laser_pose.t + 0.03 * Vec2(n(rng), n(rng)), s.laser_pose.theta + deg2rad(0.5) * n(rng));
+  sensor::CalibrationOptions aligned, raw;
+  raw.align_scans = false;
+  const sensor::CalibrationResult a = sensor::calibrate(log, scene.map, aligned);
+  const sensor::CalibrationResult b = sensor::calibrate(log, scene.map, raw);
+  EXPECT_NEAR(a.profile.range_sigma_m.value, 0.01, 0.002);
+  EXPECT_GT(b.profile.range_sigma_m.value, 0.02);  // pose error passes for range noise
+  EXPECT_GT(a.median_alignment_m, 0.02);
+  // The in-scan estimate never sees the poses.
+  EXPECT_NEAR(b.range_sigma_local_m, 0.01, 0.0015);
+}
+
+TEST(Calibrate, WithoutGlassKeepsTheGlassPriorAndSaysSo) {
+  sim::Scene scene = corridor(0.02, 2.0, 0.9);
+  VectorMap walls;
+  for (const MapSegment& s : scene.map.segments)
+    if (s.material == Material::Wall) walls.segments.push_back(s);
+  scene.map = walls;
+  const LaserLog log = simulateFor(scene, 20.0);
+  sensor::CalibrationOptions o;
+  o.prior.direct_sigma_deg.value = 7.0;
+  const sensor::CalibrationResult r = sensor::calibrate(log, scene.map, o);
+  EXPECT_TRUE(r.profile.range_sigma_m.fitted);
+  EXPECT_FALSE(r.profile.direct_sigma_deg.fitted);
+  EXPECT_DOUBLE_EQ(r.profile.direct_sigma_deg.value, 7.0);
+  EXPECT_EQ(r.profile.glass_beams, 0u);
+  EXPECT_FALSE(r.warnings.empty());
+}
+
+TEST(Calibrate, RefusesAnEmptyLogAndAPlanWithoutWalls) {
+  const sim::Scene scene = corridor(0.01, 2.0, 0.9);
+  EXPECT_THROW(sensor::calibrate(LaserLog{}, scene.map), Error);
+  VectorMap glass_only;
+  for (const MapSegment& s : scene.map.segments)
+    if (s.material == Material::Glass) glass_only.segments.push_back(s);
+  EXPECT_THROW(sensor::calibrate(simulateFor(scene, 2.0), glass_only), Error);
+}
+
+TEST(Calibrate, ProfileCurvesFollowTheirParameters) {
+  SensorProfile p;
+  p.direct_peak.value = 0.8;
+  p.direct_sigma_deg.value = 5.0;
+  p.direct_floor.value = 0.1;
+  EXPECT_NEAR(directProbability(p, 0.0), 0.8, 1e-12);
+  EXPECT_NEAR(directProbability(p, 5.0), 0.1 + 0.7 * std::exp(-0.5), 1e-12);
+  EXPECT_NEAR(directProbability(p, 80.0), 0.1, 1e-9);
+  p.normal_floor.value = 0.2;
+  p.normal_lambda_per_deg.value = 0.05;
+  EXPECT_NEAR(reflectedProbability(p, 90.0), 1.0, 1e-12);
+  EXPECT_NEAR(reflectedProbability(p, 70.0), 0.2 + 0.8 * std::exp(-1.0), 1e-12);
+}
+
+}  // namespace
+}  // namespace glassmap
