@@ -21,7 +21,8 @@ struct RenderArgs {
 };
 
 // Colours of the simulator's beam outcomes (codes of sim::BeamOutcome).
-constexpr std::uint32_t kOutcomeColour[] = {0x9a9a9a, 0x2ca02c, 0xff7f0e, 0x17becf, 0x9467bd, 0xffffff};
+constexpr std::uint32_t kOutcomeColour[] = {0x9a9a9a, 0x2ca02c, 0xff7f0e, 0x17becf, 0x9467bd,
+                                            0xffffff, 0xffffff, 0xbcbd22, 0x8c564b};
 
 void run(const RenderArgs& args) {
   const VectorMap map = cli::readPlan(args.floorplan, args.units);
@@ -50,7 +51,7 @@ void run(const RenderArgs& args) {
           const double a = s.laser_pose.theta + s.beamAngle(i);
           const Vec2 p = s.laser_pose.t + s.ranges[i] * Vec2(std::cos(a), std::sin(a));
           const std::uint8_t code = outcomes.empty() ? 0 : outcomes[offset + i];
-          pic.points.push_back({p, code < 6 ? kOutcomeColour[code] : 0xff0000});
+          pic.points.push_back({p, code < std::size(kOutcomeColour) ? kOutcomeColour[code] : 0xff0000});
         }
       }
       offset += s.ranges.size();
@@ -66,7 +67,8 @@ const cli::Registrar reg(35, [](CLI::App& app) {
       app.add_subcommand("render",
                          "Draw a floorplan to PNG or SVG: walls dark, glass blue; optionally a log's trajectory (red)\n"
                          "and scan endpoints, coloured by simulated outcome when --outcomes is given (grey wall,\n"
-                         "green direct glass return, orange reflection phantom, cyan through glass, purple person).");
+                         "green direct glass return, orange reflection phantom, cyan through glass, purple person,\n"
+                         "olive spurious short reading, brown spurious random reading).");
   sub->add_option("floorplan", args->floorplan, "floorplan (any format glassmap reads)")
       ->required()
       ->check(CLI::ExistingFile);

@@ -11,6 +11,7 @@
 #include "glassmap/io/carmen.hpp"
 #include "glassmap/io/floorplan.hpp"
 #include "glassmap/io/tum.hpp"
+#include "glassmap/sim/sensor_profile.hpp"
 #include "glassmap/sim/simulator.hpp"
 
 namespace glassmap {
@@ -21,10 +22,12 @@ namespace fs = std::filesystem;
 struct SimulateArgs {
   std::string scene;
   std::string out;
+  std::string sensor;
   std::uint64_t seed = 1;
   double duration = 0.0;
   double people = -1.0;
   double range_sigma = -1.0;
+  double rate = -1.0;
   double kidnap_at = -1.0;
   double kidnap_along = 0.0;
   std::string kidnap_to;
@@ -33,26 +36,38 @@ struct SimulateArgs {
 
 nlohmann::json poseJson(const Pose2& p) { return {p.x(), p.y(), p.theta}; }
 
+nlohmann::json laserJson(const sim::LaserSpec& l) {
+  return {{"model", l.model},
+          {"fov_deg", rad2deg(l.fov)},
+          {"resolution_deg", rad2deg(l.resolution)},
+          {"max_range", l.max_range},
+          {"rate", l.rate},
+          {"range_sigma", l.range_sigma},
+          {"range_sigma_rel", l.range_sigma_rel},
+          {"dropout_rate", l.dropout_rate},
+          {"random_rate", l.random_rate},
+          {"short_rate", l.short_rate},
+          {"short_lambda", l.short_lambda}};
+}
+
+nlohmann::json glassJson(const sim::GlassPhysics& g) {
+  return {{"n_glass", g.n_glass},
+          {"direct_sigma_deg", g.direct_sigma_deg},
+          {"direct_peak", g.direct_peak},
+          {"direct_floor", g.direct_floor},
+          {"reflection_gain", g.reflection_gain},
+          {"reflection_floor", g.reflection_floor},
+          {"pane_thickness", g.pane_thickness},
+          {"max_bounces", g.max_bounces}};
+}
+
 nlohmann::json sceneJson(const sim::Scene& s) {
-  const auto& l = s.laser;
-  const auto& g = s.glass;
   const auto& m = s.motion;
   return {{"name", s.name},
           {"segments", s.map.segments.size()},
           {"glass_segments", s.map.count(Material::Glass)},
-          {"laser",
-           {{"model", l.model},
-            {"fov_deg", rad2deg(l.fov)},
-            {"resolution_deg", rad2deg(l.resolution)},
-            {"max_range", l.max_range},
-            {"rate", l.rate},
-            {"range_sigma", l.range_sigma}}},
-          {"glass",
-           {{"n_glass", g.n_glass},
-            {"direct_sigma_deg", g.direct_sigma_deg},
-            {"direct_peak", g.direct_peak},
-            {"reflection_gain", g.reflection_gain},
-            {"max_bounces", g.max_bounces}}},
+          {"laser", laserJson(s.laser)},
+          {"glass", glassJson(s.glass)},
           {"motion",
            {{"odom_trans_sigma", m.odom_trans_sigma},
             {"odom_rot_sigma", m.odom_rot_sigma},
@@ -76,8 +91,10 @@ nlohmann::json sceneJson(const sim::Scene& s) {
 void run(const SimulateArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   sim::Scene scene = sim::loadScene(args.scene);
+  if (!args.sensor.empty()) sim::applySensorProfile(scene, sim::sensorProfile(args.sensor, "--sensor"));
   if (args.people >= 0) scene.people.density = args.people;
   if (args.range_sigma >= 0) scene.laser.range_sigma = args.range_sigma;
+  if (args.rate > 0) scene.laser.rate = args.rate;
   sim::SimOptions options;
   options.seed = args.seed;
   options.duration_limit = args.duration;
@@ -85,7 +102,9 @@ void run(const SimulateArgs& args) {
   options.kidnap.time = args.kidnap_at;
   options.kidnap.along = args.kidnap_along;
   if (!args.kidnap_to.empty()) options.kidnap.to = cli::parsePose(args.kidnap_to, "kidnap-to");
-  if (!args.quiet) std::cerr << "simulating " << scene.name << " (seed " << args.seed << ")...\n";
+  if (!args.quiet)
+    std::cerr << "simulating " << scene.name << " with " << (scene.sensor.empty() ? scene.laser.model : scene.sensor)
+              << " (seed " << args.seed << ")...\n";
   const sim::SimResult result = sim::simulate(scene, options);
 
   const fs::path dir(args.out);
@@ -103,22 +122,28 @@ void run(const SimulateArgs& args) {
   });
 
   std::size_t beams = 0;
-  nlohmann::json counts;
+  nlohmann::json counts, codes = nlohmann::json::array();
   for (std::size_t i = 0; i < result.counts.size(); ++i) {
     counts[sim::toString(static_cast<sim::BeamOutcome>(i))] = result.counts[i];
+    codes.push_back(sim::toString(static_cast<sim::BeamOutcome>(i)));
     beams += result.counts[i];
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  nlohmann::json meta = {
-      {"scene", sceneJson(scene)},
-      {"seed", args.seed},
-      {"scans", result.log.scans.size()},
-      {"beams", beams},
-      {"duration_s", result.ground_truth.empty() ? 0.0 : result.ground_truth.back().timestamp},
-      {"outcome_counts", counts},
-      {"outcome_codes", {"wall", "glass_direct", "glass_reflected", "glass_transmitted", "person", "max_range"}},
-      {"kidnap", nullptr},
-      {"seconds", seconds}};
+  nlohmann::json meta = {{"scene", sceneJson(scene)},
+                         {"seed", args.seed},
+                         {"scans", result.log.scans.size()},
+                         {"beams", beams},
+                         {"duration_s", result.ground_truth.empty() ? 0.0 : result.ground_truth.back().timestamp},
+                         {"outcome_counts", counts},
+                         {"outcome_codes", codes},
+                         // The sensor truth a calibration is scored against: the profile (null: the laser preset)
+                         // and the numbers the run used, after the scene's and the command line's overrides.
+                         {"sensor",
+                          {{"profile", scene.sensor.empty() ? nlohmann::json(nullptr) : nlohmann::json(scene.sensor)},
+                           {"laser", laserJson(scene.laser)},
+                           {"glass", glassJson(scene.glass)}}},
+                         {"kidnap", nullptr},
+                         {"seconds", seconds}};
   if (!result.ground_truth.empty()) {
     // The true first laser pose, and the same as `glassmap localize --init` takes it.
     const Pose2& p0 = result.ground_truth.front().pose;
@@ -166,7 +191,17 @@ const cli::Registrar reg(30, [](CLI::App& app) {
                   "simulate this many seconds, driving the trajectory back and forth (0: once)")
       ->capture_default_str();
   sub->add_option("--people", args->people, "override the scene's people density [per 100 m^2]");
-  sub->add_option("--range-sigma", args->range_sigma, "override the laser's range noise [m]");
+  std::string names;
+  for (const std::string& n : sim::sensorProfileNames()) names += "  " + n + "\n";
+  sub->add_option("--sensor", args->sensor,
+                  "simulate this sensor profile instead of the scene's laser: its geometry, range noise,\n"
+                  "spurious readings (dropouts, random, short) and glass response replace the scene's laser\n"
+                  "and glass keys (the mounting and max_bounces stay); meta.json records every number\n"
+                  "(maps/README.md, \"Sensor profiles\"). Names:\n" +
+                      names + "  random:SEED  (drawn reproducibly from the ranges the named ones span)");
+  sub->add_option("--range-sigma", args->range_sigma, "override the laser's range noise [m] (after --sensor)");
+  sub->add_option("--rate", args->rate, "override the laser's scan rate [Hz] (after --sensor)")
+      ->check(CLI::PositiveNumber);
   CLI::Option* at = sub->add_option(
       "--kidnap-at", args->kidnap_at,
       "kidnap the robot at this time [s]: the first scan at or after it sees the robot elsewhere,\n"

@@ -7,6 +7,7 @@
 
 #include "glassmap/core/error.hpp"
 #include "glassmap/io/floorplan.hpp"
+#include "glassmap/sim/sensor_profile.hpp"
 
 namespace glassmap::sim {
 namespace {
@@ -77,19 +78,41 @@ Scene loadScene(const std::filesystem::path& yaml) {
   scene.map = readFloorplan(scene.floorplan_path);
   scene.map.name = scene.name;
 
-  if (const YAML::Node l = root["laser"]) {
-    std::string preset = scene.laser.model;
-    read(l, "preset", preset, file);
-    scene.laser = laserPreset(preset);
+  // The laser: a sensor profile (top-level `sensor:` or `laser: {sensor: ...}`) or a preset, then
+  // the explicit fields.
+  const YAML::Node l = root["laser"];
+  std::string sensor, laser_sensor;
+  read(root, "sensor", sensor, file);
+  if (l) read(l, "sensor", laser_sensor, file);
+  if (!sensor.empty() && !laser_sensor.empty() && sensor != laser_sensor)
+    throw Error("sensor and laser.sensor name different profiles", file, 0, "sensor");
+  if (sensor.empty()) sensor = laser_sensor;
+  if (!sensor.empty()) {
+    if (l && l["preset"]) throw Error("give laser.preset or a sensor profile, not both", file, 0, "laser.preset");
+    try {
+      applySensorProfile(scene, sensorProfile(sensor));
+    } catch (const Error& e) {
+      const YAML::Node at = root["sensor"] ? root["sensor"] : l["sensor"];
+      throw Error(e.message(), file, static_cast<std::size_t>(at.Mark().line + 1), e.field());
+    }
+  }
+  if (l) {
+    if (sensor.empty()) {
+      std::string preset = scene.laser.model;
+      read(l, "preset", preset, file);
+      scene.laser = laserPreset(preset);
+    }
     readDegrees(l, "fov_deg", scene.laser.fov, file);
     readDegrees(l, "resolution_deg", scene.laser.resolution, file);
     read(l, "max_range", scene.laser.max_range, file);
     read(l, "rate", scene.laser.rate, file);
     read(l, "range_sigma", scene.laser.range_sigma, file);
+    read(l, "range_sigma_rel", scene.laser.range_sigma_rel, file);
+    read(l, "dropout_rate", scene.laser.dropout_rate, file);
+    read(l, "random_rate", scene.laser.random_rate, file);
+    read(l, "short_rate", scene.laser.short_rate, file);
+    read(l, "short_lambda", scene.laser.short_lambda, file);
   }
-  if (scene.laser.resolution <= 0 || scene.laser.fov <= 0 || scene.laser.max_range <= 0 || scene.laser.rate <= 0 ||
-      scene.laser.range_sigma < 0)
-    throw Error("laser fov, resolution, max_range and rate must be positive", file, 0, "laser");
 
   const YAML::Node t = root["trajectory"];
   if (!t || !t["waypoints"] || !t["waypoints"].IsSequence())
@@ -117,9 +140,13 @@ Scene loadScene(const std::filesystem::path& yaml) {
     read(g, "n_glass", scene.glass.n_glass, file);
     read(g, "direct_sigma_deg", scene.glass.direct_sigma_deg, file);
     read(g, "direct_peak", scene.glass.direct_peak, file);
+    read(g, "direct_floor", scene.glass.direct_floor, file);
     read(g, "reflection_gain", scene.glass.reflection_gain, file);
+    read(g, "reflection_floor", scene.glass.reflection_floor, file);
+    read(g, "pane_thickness", scene.glass.pane_thickness, file);
     read(g, "max_bounces", scene.glass.max_bounces, file);
   }
+  validateSensor(scene.laser, scene.glass, file);
   if (const YAML::Node m = root["motion"]) {
     read(m, "odom_trans_sigma", scene.motion.odom_trans_sigma, file);
     read(m, "odom_rot_sigma", scene.motion.odom_rot_sigma, file);

@@ -8,6 +8,7 @@
 #include "glassmap/core/error.hpp"
 #include "glassmap/geometry/optics.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
+#include "glassmap/sim/sensor_profile.hpp"
 #include "trajectory.hpp"
 
 namespace glassmap::sim {
@@ -107,14 +108,17 @@ BeamResult traceBeam(const RayCaster& caster, const Scene& scene, Vec2 origin, V
     };
     if (hit.material == Material::Wall) return {path + elongation, classify()};
 
-    // Glass. Direct return: the specular echo re-enters the receiver only near normal incidence.
+    // Glass. Direct return: the specular echo re-enters the receiver mostly near normal incidence,
+    // with a floor at any angle (scatter from dirt and coatings).
     const double theta = hit.incidence;
     const double sigma = deg2rad(glass.direct_sigma_deg);
-    const double p_direct = glass.direct_peak * std::exp(-theta * theta / (2 * sigma * sigma));
+    const double p_direct =
+        glass.direct_floor + (glass.direct_peak - glass.direct_floor) * std::exp(-theta * theta / (2 * sigma * sigma));
     if (uniform(rng) < p_direct) return {path + elongation, BeamOutcome::GlassDirect};
     const Vec2 point = origin + hit.range * dir;
     const MapSegment& pane = caster.map().segments[static_cast<std::size_t>(hit.segment)];
-    const double p_reflect = std::min(1.0, glass.reflection_gain * reflectance(theta, 1.0, glass.n_glass));
+    const double p_reflect =
+        std::max(glass.reflection_floor, std::min(1.0, glass.reflection_gain * reflectance(theta, 1.0, glass.n_glass)));
     if (uniform(rng) < p_reflect) {
       // Specular reflection: mirror the direction about the pane; the reading is the whole path.
       const Vec2 t = pane.direction();
@@ -122,13 +126,44 @@ BeamResult traceBeam(const RayCaster& caster, const Scene& scene, Vec2 origin, V
       reflected = true;
     } else {
       // Transmission: the beam goes on (lateral shift neglected), slowed inside the pane.
-      elongation += paneRangeElongation(pane.thickness, theta, glass.n_glass);
+      const double thickness = glass.pane_thickness > 0 ? glass.pane_thickness : pane.thickness;
+      elongation += paneRangeElongation(thickness, theta, glass.n_glass);
       transmitted = true;
     }
     origin = point;
     skip = hit.segment;
   }
   return {max_range, BeamOutcome::MaxRange};
+}
+
+// Replaces the traced reading by a spurious one with the laser's rates (Probabilistic Robotics
+// 6.3: max, random, short); true if it did. Draws nothing when all rates are 0, so a laser without
+// spurious readings sees the same random numbers as before they existed.
+bool spuriousReading(BeamResult& beam, const LaserSpec& laser, std::mt19937_64& rng) {
+  if (laser.dropout_rate <= 0 && laser.random_rate <= 0 && laser.short_rate <= 0) return false;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double u = uniform(rng);
+  double cut = laser.dropout_rate;
+  if (u < cut) {
+    if (beam.outcome == BeamOutcome::MaxRange) return false;  // nothing there to drop
+    beam = {laser.max_range, BeamOutcome::Dropout};
+    return true;
+  }
+  if (u < (cut += laser.random_rate)) {
+    beam = {laser.max_range * uniform(rng), BeamOutcome::Random};
+    return true;
+  }
+  if (u < cut + laser.short_rate) {
+    // Density ~ exp(-lambda z) truncated to [0, z_true], sampled by inverting its CDF.
+    const double z_true =
+        beam.outcome == BeamOutcome::MaxRange ? laser.max_range : std::min(beam.range, laser.max_range);
+    const double v = uniform(rng);
+    const double l = laser.short_lambda;
+    const double z = l > 0 ? -std::log1p(-v * -std::expm1(-l * z_true)) / l : v * z_true;
+    beam = {std::min(z, z_true), BeamOutcome::Short};
+    return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -141,6 +176,9 @@ const char* toString(BeamOutcome o) {
     case BeamOutcome::GlassTransmitted: return "glass_transmitted";
     case BeamOutcome::Person: return "person";
     case BeamOutcome::MaxRange: return "max_range";
+    case BeamOutcome::Dropout: return "dropout";
+    case BeamOutcome::Short: return "short";
+    case BeamOutcome::Random: return "random";
     case BeamOutcome::kCount: break;
   }
   return "?";
@@ -148,8 +186,7 @@ const char* toString(BeamOutcome o) {
 
 SimResult simulate(const Scene& scene, const SimOptions& options) {
   const LaserSpec& laser = scene.laser;
-  if (laser.rate <= 0 || laser.resolution <= 0 || laser.fov <= 0 || laser.max_range <= 0)
-    throw Error("laser rate, resolution, field of view and max range must be positive");
+  validateSensor(laser, scene.glass);
   const double dt = 1.0 / laser.rate;
   std::vector<Pose2> truth = sampleTrajectory(scene.trajectory, dt, options.duration_limit, options.repeat_until_limit);
   const std::vector<Pose2> untouched = options.kidnap.time >= 0 ? truth : std::vector<Pose2>{};
@@ -202,12 +239,16 @@ SimResult simulate(const Scene& scene, const SimOptions& options) {
     for (std::size_t i = 0; i < beams; ++i) {
       const double angle = T_map_laser.theta + scan.beamAngle(i);
       BeamResult beam = traceBeam(caster, scene, T_map_laser.t, Vec2(std::cos(angle), std::sin(angle)), people, rng);
-      if (beam.outcome != BeamOutcome::MaxRange) {
-        beam.range += laser.range_sigma * gauss(rng);
+      if (!spuriousReading(beam, laser, rng) && beam.outcome != BeamOutcome::MaxRange) {
+        const double sigma = laser.range_sigma_rel > 0
+                                 ? std::hypot(laser.range_sigma, laser.range_sigma_rel * beam.range)
+                                 : laser.range_sigma;
+        beam.range += sigma * gauss(rng);
         if (beam.range >= laser.max_range) beam.outcome = BeamOutcome::MaxRange;
       }
-      scan.ranges[i] = beam.outcome == BeamOutcome::MaxRange ? static_cast<float>(laser.max_range)
-                                                             : static_cast<float>(std::max(0.0, beam.range));
+      const bool max_reading = beam.outcome == BeamOutcome::MaxRange || beam.outcome == BeamOutcome::Dropout;
+      scan.ranges[i] =
+          max_reading ? static_cast<float>(laser.max_range) : static_cast<float>(std::max(0.0, beam.range));
       result.outcomes[k][i] = beam.outcome;
     }
     StampedPose& o = result.log.odometry[k];
@@ -227,7 +268,7 @@ SimResult simulate(const Scene& scene, const SimOptions& options) {
   for (const auto& scan : result.outcomes)
     for (BeamOutcome o : scan) ++result.counts[static_cast<std::size_t>(o)];
   result.log.stats.scans = n;
-  static_assert(kOutcomes == 6);
+  static_assert(kOutcomes == 9);
   return result;
 }
 

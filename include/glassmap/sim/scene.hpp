@@ -11,26 +11,41 @@
 
 namespace glassmap::sim {
 
-/// A 2D laser scanner.
+/// A 2D laser scanner: geometry, range noise and spurious readings (Probabilistic Robotics 6.3:
+/// max-range dropouts, uniform random readings, short readings). The default is the
+/// "hokuyo-utm30lx" preset, without spurious readings.
 struct LaserSpec {
-  std::string model = "hokuyo-utm30lx";  ///< preset name
+  std::string model = "hokuyo-utm30lx";  ///< preset or sensor profile name
   double fov = deg2rad(270.0);           ///< field of view [rad]
   double resolution = deg2rad(0.25);     ///< angle between beams [rad]
   double max_range = 30.0;               ///< [m]
   double rate = 40.0;                    ///< scans per second [Hz]
   double range_sigma = 0.01;             ///< Gaussian range noise [m]
-  Pose2 T_base_laser;                    ///< laser mounting on the robot
+  double range_sigma_rel = 0.0;  ///< noise growing with range: sigma(r) = hypot(range_sigma, range_sigma_rel r) [-]
+  double dropout_rate = 0.0;     ///< P(a beam that meets a surface reads max range) [-]
+  double random_rate = 0.0;      ///< P(a reading uniform in [0, max_range)) [-]
+  double short_rate = 0.0;       ///< P(a reading short of the surface: mixed pixel, dust) [-]
+  double short_lambda = 1.0;     ///< short readings: density ~ exp(-short_lambda z) on [0, true range];
+                                 ///< 0 = uniform there [1/m]
+  Pose2 T_base_laser;            ///< laser mounting on the robot
 };
 
-/// Laser presets: "hokuyo-utm30lx", "sick-lms200". Throws Error for an unknown name.
+/// Laser presets (geometry and noise only): "hokuyo-utm30lx", "sick-lms200". Throws Error for an
+/// unknown name. Full sensor profiles (spurious readings, glass response) are in sensor_profile.hpp.
 LaserSpec laserPreset(const std::string& name);
 
-/// How glass acts on the beam (physics, not the sensor model we fit later).
+/// How glass acts on the beam (physics, not the sensor model we fit later). At each pane met at
+/// incidence theta: P(direct) = direct_floor + (direct_peak - direct_floor) exp(-theta^2 / 2 sigma^2);
+/// otherwise P(specular) = max(reflection_floor, min(1, reflection_gain R(theta))), R the
+/// unpolarised Fresnel reflectance; otherwise the beam goes through.
 struct GlassPhysics {
   double n_glass = 1.5;           ///< refractive index of the panes
   double direct_sigma_deg = 2.0;  ///< sigma of the direct-return lobe over incidence angle [deg]
   double direct_peak = 0.9;       ///< probability of a direct return at normal incidence
-  double reflection_gain = 1.0;   ///< P(specular) = min(1, gain * unpolarised Fresnel reflectance)
+  double direct_floor = 0.0;      ///< probability of a direct return at any incidence [-]
+  double reflection_gain = 1.0;   ///< P(specular) >= min(1, gain * unpolarised Fresnel reflectance)
+  double reflection_floor = 0.0;  ///< P(specular) >= this at any incidence, when not returned directly [-]
+  double pane_thickness = 0.0;    ///< every pane's thickness for the elongation [m]; 0 = the map's
   int max_bounces = 4;            ///< reflections/transmissions followed per beam
 };
 
@@ -70,12 +85,14 @@ struct Scene {
   TrajectorySpec trajectory;
   LaserSpec laser;
   GlassPhysics glass;
+  std::string sensor;  ///< sensor profile the laser and glass response come from; empty = laser preset
   MotionNoise motion;
   PeopleSpec people;
   std::filesystem::path floorplan_path;  ///< where map was read from
 };
 
-/// Reads a scene YAML (see maps/README.md); the floorplan path is relative to the YAML.
+/// Reads a scene YAML (see maps/README.md); the floorplan path is relative to the YAML. A `sensor:`
+/// key (top level or in `laser:`) picks a sensor profile; explicit laser and glass keys override it.
 Scene loadScene(const std::filesystem::path& yaml);
 
 }  // namespace glassmap::sim

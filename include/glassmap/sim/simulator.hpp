@@ -19,6 +19,9 @@ enum class BeamOutcome : std::uint8_t {
   GlassTransmitted,  ///< passed through one or more panes, returned from beyond (elongated)
   Person,            ///< cut short by a person
   MaxRange,          ///< nothing within max range (reading = max range)
+  Dropout,           ///< spurious: a beam that met a surface read max range
+  Short,             ///< spurious: a reading short of the surface (mixed pixel, dust)
+  Random,            ///< spurious: a reading uniform in [0, max range)
   kCount
 };
 
