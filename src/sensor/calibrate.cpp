@@ -424,6 +424,8 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
   std::vector<std::pair<float, bool>> direct_obs, mirror_obs;
   std::vector<double> offsets;
   for (const GlassBeam& b : glass) {
+    // A reading short of the pane never reached it (a person, clutter): it says nothing of glass.
+    if (b.z < b.d_g - gate) continue;
     const bool is_direct = std::abs(b.z - b.d_g) < gate;
     const bool near_mirror = std::isfinite(b.e_mirror) && std::abs(b.z - b.e_mirror) < gate;
     const bool near_through = std::isfinite(b.e_through) && std::abs(b.z - b.e_through) < wide;
