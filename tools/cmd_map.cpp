@@ -57,6 +57,7 @@ nlohmann::json optionsJson(const MapArgs& a) {
             {"prior_occupied", d.prior_occupied},
             {"min_glass_hits", d.min_glass_hits},
             {"search_cells", d.search_cells}}},
+          {"profile_lobe", a.options.profile_lobe},
           {"prune_unfitted_glass", a.options.prune_unfitted_glass},
           {"phantoms",
            {{"enabled", a.options.phantoms},
@@ -296,8 +297,13 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_flag("!--no-calibrate", args->options.calibrate,
                 "map once with the default thresholds (a 1-2 cm laser with a 2 deg glass lobe). By default\n"
                 "a first pass maps the log, the sensor profile is fitted against its floorplan (as\n"
-                "`glassmap calibrate`), and the log is mapped again with the thresholds the profile sets.\n"
+                "`glassmap calibrate`), and the log is mapped again with the thresholds the profile sets\n"
+                "(range-noise margins; the glass lobe too with --profile-lobe).\n"
                 "Options given explicitly (--direct-sigma, --miss-margin, ...) are kept either way");
+  cmd->add_flag("--profile-lobe", args->options.profile_lobe,
+                "let the profile's glass lobe (peak, sigma, floor) replace the classifier's defaults. Off by\n"
+                "default: it maps better for lobes a few degrees wide, worse for wide lobes with a floor\n"
+                "(README, Calibration); the range-noise thresholds follow the profile either way");
   cmd->add_option("--calibration-rounds", args->options.calibration_rounds, "fit and re-map this many times")
       ->capture_default_str()
       ->check(CLI::Range(1, 5));

@@ -142,9 +142,11 @@ void applyProfile(MapOptions& o, const SensorProfile& p) {
   };
   const glass::DirectOptions& dd = defaults.mapping.direct;
   glass::DirectOptions& d = o.mapping.direct;
-  set(d.direct_sigma_deg, dd.direct_sigma_deg, p.direct_sigma_deg.value);
-  set(d.direct_peak, dd.direct_peak, std::clamp(p.direct_peak.value, 0.05, 0.999));
-  set(d.direct_floor, dd.direct_floor, std::clamp(p.direct_floor.value, 0.0, 0.5));
+  if (o.profile_lobe) {
+    set(d.direct_sigma_deg, dd.direct_sigma_deg, p.direct_sigma_deg.value);
+    set(d.direct_peak, dd.direct_peak, std::clamp(p.direct_peak.value, 0.05, 0.999));
+    set(d.direct_floor, dd.direct_floor, std::clamp(p.direct_floor.value, 0.0, 0.5));
+  }
   // Range noise: a reading lands within 3 sigma of its surface.
   set(d.sigmoid_margin, dd.sigmoid_margin, std::max(dd.sigmoid_margin, 3.0 * sigma / res));
   set(o.mapping.beams.miss_margin, defaults.mapping.beams.miss_margin,

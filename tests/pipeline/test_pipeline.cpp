@@ -140,7 +140,9 @@ const Scene& noisyCorridor() {
 
 TEST(Pipeline, CalibratesToTheLaserAndMapsBetterForIt) {
   const Scene& s = noisyCorridor();
-  const MapResult calibrated = mapLog(s.run.log);
+  MapOptions with_lobe;
+  with_lobe.profile_lobe = true;
+  const MapResult calibrated = mapLog(s.run.log, with_lobe);
   ASSERT_TRUE(calibrated.calibrated);
   const SensorProfile& p = calibrated.profile;
   EXPECT_NEAR(p.range_sigma_m.value, 0.03, 0.25 * 0.03);
@@ -158,7 +160,7 @@ TEST(Pipeline, CalibratesToTheLaserAndMapsBetterForIt) {
               without);
   EXPECT_GT(with, without + 0.03);
   // A given profile is used as is, in one pass.
-  MapOptions given;
+  MapOptions given = with_lobe;
   given.sensor = p;
   const MapResult reused = mapLog(s.run.log, given);
   EXPECT_FALSE(reused.calibrated);
@@ -172,6 +174,11 @@ TEST(Pipeline, ApplyProfileKeepsWhatTheCallerSet) {
   p.direct_floor.value = 0.1;
   MapOptions o;
   o.mapping.direct.direct_peak = 0.42;  // set by the caller
+  MapOptions noise_only = o;
+  applyProfile(noise_only, p);
+  EXPECT_DOUBLE_EQ(noise_only.mapping.direct.direct_sigma_deg, MapOptions{}.mapping.direct.direct_sigma_deg);
+  EXPECT_NEAR(noise_only.mapping.beams.miss_margin, 0.24, 1e-12);
+  o.profile_lobe = true;
   applyProfile(o, p);
   EXPECT_DOUBLE_EQ(o.mapping.direct.direct_peak, 0.42);
   EXPECT_DOUBLE_EQ(o.mapping.direct.direct_sigma_deg, 9.0);

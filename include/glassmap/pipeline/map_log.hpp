@@ -49,12 +49,19 @@ struct MapOptions {
   std::optional<SensorProfile> sensor;
   bool calibrate = true;
   int calibration_rounds = 1;  ///< fit, re-map: this many times
+  /// The profile's glass lobe (peak, sigma, floor) replaces the direct classifier's. Off by
+  /// default: measured over five simulated scanners (tools/sensor_sweep.py), the classifier with
+  /// the true lobe maps better only for lobes a few degrees wide (a 4 deg / 0.55 lobe: paper-corridor
+  /// glass cell F1@2 0.84 -> 0.92) and worse for wide lobes with a floor (15 deg / floor 0.1:
+  /// glass-corridor 0.82 -> 0.47), because more glass cells then explain the hits around a pane.
+  /// The range-noise thresholds always follow the profile.
+  bool profile_lobe = false;
   sensor::CalibrationOptions calibration;
 };
 
 /// Sets every sensor-dependent threshold of the mapping steps from a profile, in the units of
-/// the grid (options.mapping.resolution): the direct classifier's lobe (peak, sigma, floor), the
-/// miss margin and sigmoid margin (range noise), the phantom test's margins and the vectorizer's
+/// the grid (options.mapping.resolution): the direct classifier's lobe (peak, sigma, floor; only
+/// with options.profile_lobe), the miss margin and sigmoid margin (range noise), the phantom test's margins and the vectorizer's
 /// noise floor and line distance. Values are never set below the defaults tuned for a 1-2 cm
 /// laser, so a precise laser keeps today's behaviour; a field the caller changed from its
 /// default (an explicit command-line option) is kept as given.
