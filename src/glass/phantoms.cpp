@@ -14,16 +14,16 @@ namespace glassmap::glass {
 
 namespace {
 
-// Unit normal of the wall through cell (cx, cy): minor axis of the occupied cells within 3 cells.
-// False when too few cells make a line (a speck, not a wall).
-bool wallNormal(const CellEvidence& e, int cx, int cy, Vec2& normal) {
+// Unit normal of the line through cell (cx, cy): minor axis of the cells within kR cells that
+// `member` accepts. False when too few cells make a line (a speck, not a wall or a pane).
+template <int kR, class Member>
+bool lineNormal(const CellEvidence& e, int cx, int cy, Member&& member, Vec2& normal) {
   const grid::GridGeometry& g = e.geometry;
-  constexpr int kR = 3;
   double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
   for (int dy = -kR; dy <= kR; ++dy)
     for (int dx = -kR; dx <= kR; ++dx) {
       const int x = cx + dx, y = cy + dy;
-      if (!g.contains(x, y) || e.label[g.index(x, y)] != kOccupied) continue;
+      if (!g.contains(x, y) || !member(e.label[g.index(x, y)])) continue;
       n += 1;
       sx += dx;
       sy += dy;
@@ -37,6 +37,43 @@ bool wallNormal(const CellEvidence& e, int cx, int cy, Vec2& normal) {
   const double angle = 0.5 * std::atan2(2.0 * cxy, cxx - cyy);  // direction of the major axis
   normal = Vec2(-std::sin(angle), std::cos(angle));
   return true;
+}
+
+bool wallNormal(const CellEvidence& e, int cx, int cy, Vec2& normal) {
+  return lineNormal<3>(
+      e, cx, cy, [](int l) { return l == kOccupied; }, normal);
+}
+
+// True when `reading` lies at least `margin` beyond the pane of glass label `pane_label` crossed
+// at `at`, and its mirror image across that pane falls on an occupied or glass cell (within the
+// uncertainty of the pane's 5-degree angle bin over the mirrored distance).
+bool mirrorsASurface(const CellEvidence& e, int pane_label, const Vec2& at, const Vec2& reading, double margin) {
+  const grid::GridGeometry& g = e.geometry;
+  // The pane's line from the glass cells around the crossing (a label's angle bin is 5 deg wide,
+  // and a wide lobe blurs it further); the bin's direction when too few cells make a line.
+  const grid::CellIndex p = g.cellAt(at);
+  Vec2 n;
+  double tolerance = 0.5 * kPi / e.bins;
+  if (lineNormal<5>(
+          e, p.x, p.y, [](int l) { return isGlass(l); }, n)) {
+    tolerance = deg2rad(1.5);
+  } else {
+    const double normal_angle = glassBin(pane_label) * kPi / e.bins;  // bin b is centred on b * 180 / bins
+    n = Vec2(std::cos(normal_angle), std::sin(normal_angle));
+  }
+  const double beyond = n.dot(reading - at);
+  if (std::abs(beyond) < margin) return false;
+  const Vec2 image = reading - 2.0 * beyond * n;
+  const int r = std::min(4, 1 + static_cast<int>(2.0 * std::abs(beyond) * std::tan(tolerance) / g.resolution));
+  const grid::CellIndex c = g.cellAt(image);
+  for (int dy = -r; dy <= r; ++dy)
+    for (int dx = -r; dx <= r; ++dx) {
+      const int x = c.x + dx, y = c.y + dy;
+      if (!g.contains(x, y)) continue;
+      const int l = e.label[g.index(x, y)];
+      if (l == kOccupied || isGlass(l)) return true;
+    }
+  return false;
 }
 
 }  // namespace
@@ -95,11 +132,17 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
         const double glass_until = beam.range - options.glass_margin;
         const double block_until = beam.range - options.block_margin;
         bool through_glass = false, is_folded = false;
+        int pane_label = -1;
+        Vec2 pane_at = Vec2::Zero();
         grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool) {
           const double d = t * beam.range;
           if (d >= glass_until) return false;
           const int l = e.label[g.index(x, y)];
           if (isGlass(l)) {
+            if (!through_glass) {
+              pane_label = l;
+              pane_at = beam.from + d * (beam.to - beam.from) / beam.range;
+            }
             through_glass = true;
           } else if (through_glass && l == kOccupied && d < block_until) {
             // Blocked only if the reading lies well beyond the wall's line, not just further
@@ -113,6 +156,11 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
           }
           return true;
         });
+        // A reading in a glass cell beyond a pane whose mirror image (across that pane) is a
+        // surface in front of it: the path the pane folded, which draws a phantom pane with the
+        // very signature of glass (the mirrored pane's direct returns, from one angle).
+        if (through_glass && !is_folded && isGlass(e.label[g.index(end)]))
+          is_folded = mirrorsASurface(e, pane_label, pane_at, beam.to, options.block_margin);
         tally.through_glass += through_glass;
         tally.folded_beams += is_folded;
         tally.folded[static_cast<std::size_t>(c)] += is_folded;
