@@ -10,6 +10,7 @@
 #include "glassmap/core/error.hpp"
 #include "glassmap/io/carmen.hpp"
 #include "glassmap/io/floorplan.hpp"
+#include "glassmap/io/sensor_profile.hpp"
 #include "glassmap/io/tum.hpp"
 #include "glassmap/pipeline/localize_log.hpp"
 
@@ -29,6 +30,8 @@ struct LocalizeArgs {
   std::string laser_offset;
   std::uint64_t seed = 1;
   double sigma_hit = 0.05;
+  bool sigma_hit_given = false;
+  std::string sensor;
   double global_temperature = 30.0;
   bool no_inject = false;
   bool quiet = false;
@@ -49,6 +52,10 @@ void run(const LocalizeArgs& a) {
   options.model = a.model;
   options.sensor.glass_as = sensor::parseGlassAs(a.glass_as);
   options.sensor.sigma_hit = a.sigma_hit;
+  if (!a.sensor.empty()) {
+    options.sensor = sensor::paramsFromProfile(readSensorProfile(a.sensor), options.sensor);
+    if (a.sigma_hit_given) options.sensor.sigma_hit = a.sigma_hit;  // an explicit option wins
+  }
   localize::LocalizeOptions& opt = options.filter;
   opt.beams = a.beams;
   opt.filter.max_particles = a.particles;
@@ -148,7 +155,14 @@ const cli::Registrar reg(60, [](CLI::App& app) {
   sub->add_option("--init", a->init, "initial laser pose x,y,theta [m,m,rad]; without it: global localization");
   sub->add_option("--laser-offset", a->laser_offset, "laser pose on the robot x,y,theta [m,m,rad] (default 0,0,0)");
   cli::addUnitsOption(*sub, a->units);
-  sub->add_option("--sigma-hit", a->sigma_hit, "range std dev of the sensor models [m]")->capture_default_str();
+  sub->add_option("--sigma-hit", a->sigma_hit, "range std dev of the sensor models [m]")
+      ->capture_default_str()
+      ->each([a](const std::string&) { a->sigma_hit_given = true; });
+  sub->add_option("--sensor", a->sensor,
+                  "sensor profile YAML (glassmap calibrate, or a map folder's sensor.yaml): the glass lobe\n"
+                  "(peak, sigma, floor), the reflection rate, the mixture weights and sigma_hit = the\n"
+                  "profile's range noise, at least 2 cm (a floorplan is never drawn to the millimetre)")
+      ->check(CLI::ExistingFile);
   sub->add_option("--global-temperature", a->global_temperature,
                   "global localization: divide log-likelihoods by this until the cloud converges")
       ->capture_default_str();

@@ -22,8 +22,12 @@ GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& 
   m.d_g = hit.range;
   m.theta_deg = rad2deg(hit.incidence);
   // Paper eq. (2.1): direct-reflection lobe; (2.2): normal reflection; (2.3): refraction.
-  m.w_direct = std::exp(-m.theta_deg * m.theta_deg / (2.0 * params_.direct_sigma_deg * params_.direct_sigma_deg));
-  m.w_normal = std::exp(-params_.lambda_normal * (90.0 - m.theta_deg));
+  // With a measured profile: a peak below 1 and floors at any angle (defaults 1, 0, 0: the paper).
+  m.w_direct = params_.direct_floor +
+               (params_.direct_peak - params_.direct_floor) *
+                   std::exp(-m.theta_deg * m.theta_deg / (2.0 * params_.direct_sigma_deg * params_.direct_sigma_deg));
+  m.w_normal =
+      params_.normal_floor + (1.0 - params_.normal_floor) * std::exp(-params_.lambda_normal * (90.0 - m.theta_deg));
   m.w_refract = std::max(0.0, 1.0 - m.w_normal - m.w_direct);
   m.e_normal = kInf;
   m.e_refract = kInf;

@@ -71,4 +71,19 @@ std::unique_ptr<SensorModel> makeSensorModel(std::string_view name, const Vector
               "model");
 }
 
+SensorParams paramsFromProfile(const SensorProfile& p, SensorParams base, double min_sigma_hit) {
+  base.sigma_hit = std::max(p.range_sigma_m.value, min_sigma_hit);
+  base.z_hit = p.w_hit.value;
+  base.z_short = p.w_short.value;
+  base.z_max = p.w_max.value;
+  base.z_rand = std::max(p.w_rand.value, 1e-3);  // bounds the log-likelihood of a stray reading
+  base.lambda_short = p.lambda_short.value;
+  base.direct_sigma_deg = p.direct_sigma_deg.value;
+  base.direct_peak = p.direct_peak.value;
+  base.direct_floor = p.direct_floor.value;
+  base.lambda_normal = p.normal_lambda_per_deg.value;
+  base.normal_floor = p.normal_floor.value;
+  return base;
+}
+
 }  // namespace glassmap::sensor

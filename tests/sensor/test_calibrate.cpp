@@ -7,7 +7,9 @@
 #include <random>
 
 #include "glassmap/core/error.hpp"
+#include "glassmap/geometry/ray_caster.hpp"
 #include "glassmap/sensor/calibrate.hpp"
+#include "glassmap/sensor/glass_model.hpp"
 #include "glassmap/sim/scene.hpp"
 #include "glassmap/sim/simulator.hpp"
 
@@ -115,6 +117,43 @@ TEST(Calibrate, ProfileCurvesFollowTheirParameters) {
   p.normal_lambda_per_deg.value = 0.05;
   EXPECT_NEAR(reflectedProbability(p, 90.0), 1.0, 1e-12);
   EXPECT_NEAR(reflectedProbability(p, 70.0), 0.2 + 0.8 * std::exp(-1.0), 1e-12);
+}
+
+}  // namespace
+}  // namespace glassmap
+
+namespace glassmap {
+namespace {
+
+TEST(ProfileParams, TheGlassModelTakesTheProfilesLobeAndFloors) {
+  VectorMap map;
+  map.add({2, -5}, {2, 5}, Material::Glass);
+  map.add({6, -5}, {6, 5}, Material::Wall);
+  SensorProfile p;
+  p.range_sigma_m.value = 0.005;
+  p.direct_peak.value = 0.5;
+  p.direct_sigma_deg.value = 10.0;
+  p.direct_floor.value = 0.1;
+  p.normal_lambda_per_deg.value = 0.01;
+  p.normal_floor.value = 0.3;
+  const sensor::SensorParams params = sensor::paramsFromProfile(p);
+  EXPECT_DOUBLE_EQ(params.sigma_hit, 0.02);  // floored: the map is not that precise
+  EXPECT_DOUBLE_EQ(sensor::paramsFromProfile(p, {}, 0.001).sigma_hit, 0.005);
+  const sensor::GlassModel model(map, params);
+  const RayCaster caster(map);
+  for (double theta_deg : {0.0, 10.0, 60.0}) {
+    const Vec2 dir(std::cos(deg2rad(theta_deg)), std::sin(deg2rad(theta_deg)));
+    const RayHit hit = caster.cast(Vec2::Zero(), dir, 30.0);
+    ASSERT_EQ(hit.material, Material::Glass);
+    const sensor::GlassModes m = model.modes(Vec2::Zero(), dir, hit, 30.0);
+    EXPECT_NEAR(m.w_direct, directProbability(p, theta_deg), 1e-9) << theta_deg;
+    EXPECT_NEAR(m.w_normal, reflectedProbability(p, theta_deg), 1e-9) << theta_deg;
+  }
+  // The defaults are the paper's lobe, bit for bit.
+  const sensor::SensorParams paper;
+  EXPECT_EQ(paper.direct_peak, 1.0);
+  EXPECT_EQ(paper.direct_floor, 0.0);
+  EXPECT_EQ(paper.normal_floor, 0.0);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "glassmap/core/laser_scan.hpp"
 #include "glassmap/core/pose2.hpp"
+#include "glassmap/core/sensor_profile.hpp"
 #include "glassmap/geometry/vector_map.hpp"
 
 namespace glassmap::sensor {
@@ -34,7 +35,10 @@ struct SensorParams {
   // Glass model (paper 2.1-2.3).
   double direct_sigma_deg =
       1.7320508075688772;       ///< direct-reflection lobe sigma_dr [deg] (paper: sigma_dr^2 = 3 deg^2)
+  double direct_peak = 1.0;     ///< P(direct) at normal incidence (the paper's lobe: 1) [-]
+  double direct_floor = 0.0;    ///< P(direct) at any angle: w_direct = floor + (peak - floor) lobe [-]
   double lambda_normal = 0.09;  ///< rate of the normal-reflection weight [1/deg]
+  double normal_floor = 0.0;    ///< w_normal = floor + (1 - floor) exp(-lambda (90 - theta)) [-]
   double glass_index = 1.5;     ///< refractive index used for the refraction offset [-]
   double offset = -1.0;         ///< refraction offset per pane [m]; < 0: the physical elongation
                                 ///< t (n / cos theta_t - 1 / cos theta_i) of each pane crossed
@@ -53,6 +57,12 @@ struct BeamSet {
   double max_range = 30.0;     ///< z_max of the scan [m]
   std::size_t size() const { return ranges.size(); }
 };
+
+/// The models' parameters from a sensor profile (sensor/calibrate.hpp): the glass lobe (peak,
+/// sigma, floor), the reflection rate and floor, the mixture weights and lambda_short, and
+/// sigma_hit = max(profile's range sigma, min_sigma_hit): a floorplan is never drawn to the
+/// millimetre, and a likelihood sharper than the map is true to starves the particle filter.
+SensorParams paramsFromProfile(const SensorProfile& profile, SensorParams base = {}, double min_sigma_hit = 0.02);
 
 /// Picks `count` beams spread evenly over the scan (all when count <= 0 or >= the scan's size).
 /// A no-return reading (kNoReturn) becomes a max reading.
