@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -120,6 +121,25 @@ std::string profileSummary(const SensorProfile& p) {
                 p.direct_peak.value, p.direct_sigma_deg.value, p.direct_floor.value, p.normal_lambda_per_deg.value,
                 p.normal_floor.value);
   return buf;
+}
+
+std::function<void(std::uint64_t, std::uint64_t)> readProgress(bool show) {
+  if (!show) return {};
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto last = start - std::chrono::seconds(1);
+  return [start, last](std::uint64_t done, std::uint64_t total) mutable {
+    const auto now = Clock::now();
+    const bool finished = done >= total;
+    if (!finished && now - last < std::chrono::milliseconds(100)) return;
+    last = now;
+    const double seconds = std::chrono::duration<double>(now - start).count();
+    const double mb = static_cast<double>(done) / 1e6, total_mb = static_cast<double>(total) / 1e6;
+    const int digits = total_mb < 10 ? 1 : 0;
+    std::fprintf(stderr, "\rreading  %5.1f%% (%.*f of %.*f MB, %.1f MB/s)", total > 0 ? 100.0 * mb / total_mb : 0.0,
+                 digits, mb, digits, total_mb, seconds > 0 ? mb / seconds : 0.0);
+    if (finished) std::fputc('\n', stderr);
+  };
 }
 
 }  // namespace glassmap::cli

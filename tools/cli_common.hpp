@@ -51,6 +51,10 @@ nlohmann::json profileJson(const SensorProfile& p);
 /// One line for a summary: "range sigma 0.012 m, glass lobe peak 0.90 sigma 2.1 deg floor 0.000, ...".
 std::string profileSummary(const SensorProfile& p);
 
+/// Makes a CarmenReadOptions::progress that prints "reading  45.0% (120 of 270 MB, 35 MB/s)" on
+/// stderr, overwriting itself, at most ten times a second; empty when `show` is false.
+std::function<void(std::uint64_t, std::uint64_t)> readProgress(bool show);
+
 /// True when stderr is a terminal (progress is shown only then).
 bool stderrIsTerminal();
 

@@ -42,6 +42,7 @@ void run(CalibrateArgs& a) {
   const bool show_progress = !a.quiet && cli::stderrIsTerminal();
   CarmenReadOptions read;
   read.laser_id = a.laser_id;
+  read.progress = cli::readProgress(show_progress);
   const LaserLog log = readCarmenLog(a.log, read);
   VectorMap plan;
   if (!a.map.empty()) plan = cli::readPlan(a.map, a.units, a.quiet);

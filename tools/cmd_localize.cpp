@@ -45,7 +45,9 @@ void run(const LocalizeArgs& a) {
   // explicit --units, refuse; with one, only warn.
   if (!scale_warning.empty() && a.units.empty()) throw Error("refusing to localize: " + scale_warning);
   if (!scale_warning.empty() && !a.quiet) std::cerr << "glassmap: warning: " << scale_warning << "\n";
-  const LaserLog log = readCarmenLog(a.log);
+  CarmenReadOptions read;
+  read.progress = cli::readProgress(!a.quiet && cli::stderrIsTerminal());
+  const LaserLog log = readCarmenLog(a.log, read);
   if (log.scans.empty()) throw Error("the log holds no scan", a.log);
 
   pipeline::LocalizeOptions options;

@@ -86,7 +86,7 @@ void run(MapArgs& args) {
   CarmenReadOptions read;
   read.laser_id = args.laser_id;
   read.max_memory_bytes = static_cast<std::size_t>(args.max_memory_mb * 1e6);  // the log counts too
-  if (show_progress) std::cerr << "reading " << args.log << "...\n";
+  read.progress = cli::readProgress(show_progress);
   const LaserLog log = [&] {
     try {
       return readCarmenLog(args.log, read);

@@ -136,6 +136,7 @@ class CarmenParser {
     std::string_view line;
     while (reader_.next(line)) {
       ++stats_.lines;
+      if (opt_.progress && (stats_.lines & 4095) == 0) opt_.progress(reader_.fileOffset(), reader_.fileBytes());
       ctx_.line = reader_.lineNumber();
       io_detail::splitBlanks(line, tokens_);
       if (tokens_.empty() || tokens_[0].front() == '#') {
@@ -144,6 +145,7 @@ class CarmenParser {
       }
       dispatch();
     }
+    if (opt_.progress) opt_.progress(reader_.fileBytes(), reader_.fileBytes());
     return stats_;
   }
 

@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -23,6 +24,9 @@ void GzipLineReader::Buffer::grow(std::size_t n, std::size_t keep) {
 
 GzipLineReader::GzipLineReader(const std::filesystem::path& path, std::size_t max_line_bytes)
     : name_(path.string()), max_line_bytes_(max_line_bytes) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  file_bytes_ = ec ? 0 : static_cast<std::uint64_t>(size);
   file_.reset(gzopen(name_.c_str(), "rb"));
   if (!file_) {
     const int err = errno;
@@ -51,6 +55,11 @@ bool GzipLineReader::next(std::string_view& line) {
     }
     fill();
   }
+}
+
+std::uint64_t GzipLineReader::fileOffset() const {
+  const auto offset = gzoffset(file_.get());
+  return offset < 0 ? 0 : std::min<std::uint64_t>(static_cast<std::uint64_t>(offset), file_bytes_);
 }
 
 void GzipLineReader::fill() {

@@ -3,6 +3,7 @@
 // the text parts of ROS bags later).
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -33,6 +34,10 @@ class GzipLineReader {
 
   /// Number of the line last returned by next() (0 before the first).
   std::size_t lineNumber() const { return line_number_; }
+  /// Bytes of the file (compressed, as on disk) consumed so far; with fileBytes() a read's progress.
+  std::uint64_t fileOffset() const;
+  /// Size of the file on disk [bytes] (0 when unknown).
+  std::uint64_t fileBytes() const { return file_bytes_; }
   /// The file's name as given, for error messages.
   const std::string& name() const { return name_; }
 
@@ -55,6 +60,7 @@ class GzipLineReader {
   GzHandle file_;
   Buffer buffer_;
   std::size_t pos_ = 0, end_ = 0, line_number_ = 0;
+  std::uint64_t file_bytes_ = 0;
   bool eof_ = false;
 };
 

@@ -428,3 +428,46 @@ TEST(Carmen, CorruptedInputsGiveErrorsNotCrashes) {
 
 }  // namespace
 }  // namespace glassmap
+
+namespace glassmap {
+namespace {
+
+TEST(CarmenProgress, ReportsBytesOfTheFileUpToItsSize) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "glassmap_test_progress";
+  std::filesystem::create_directories(dir);
+  LaserLog log;
+  for (int k = 0; k < 20000; ++k) {
+    LaserScan s;
+    s.timestamp = k * 0.1;
+    s.start_angle = -1.5;
+    s.angular_step = 0.5;
+    s.max_range = 30.0;
+    s.ranges = {1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f};
+    s.laser_pose = Pose2(k * 0.01, 0.0, 0.0);
+    log.scans.push_back(s);
+  }
+  for (const char* name : {"p.clf", "p.clf.gz"}) {
+    const auto path = dir / name;
+    writeCarmenLog(path, log);
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> calls;
+    CarmenReadOptions o;
+    o.progress = [&](std::uint64_t done, std::uint64_t total) { calls.emplace_back(done, total); };
+    const LaserLog back = readCarmenLog(path, o);
+    EXPECT_EQ(back.scans.size(), log.scans.size());
+    ASSERT_GE(calls.size(), 3u) << name;  // every 4096 lines and at the end
+    const std::uint64_t size = std::filesystem::file_size(path);
+    for (std::size_t i = 0; i < calls.size(); ++i) {
+      EXPECT_EQ(calls[i].second, size);
+      EXPECT_LE(calls[i].first, size);
+      if (i > 0) {
+        EXPECT_GE(calls[i].first, calls[i - 1].first);
+      }
+    }
+    EXPECT_EQ(calls.back().first, size);
+    EXPECT_GT(calls.front().first, 0u);
+    EXPECT_LT(calls.front().first, size);
+  }
+}
+
+}  // namespace
+}  // namespace glassmap

@@ -6,6 +6,7 @@
 /// empty lines are comments. A malformed line of a known type throws Error naming file, line and
 /// field. Compression is detected from the content (gzip magic), not from the extension.
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -22,6 +23,9 @@ struct CarmenReadOptions {
   bool require_scans = true;         ///< readCarmenLog throws Error when the log holds no scan (empty file included)
   std::size_t max_memory_bytes = 0;  ///< readCarmenLog throws Error, while reading, once the log in memory
                                      ///< passes this (see memoryBytes) [bytes]; 0: no limit
+  /// Called every few thousand lines and once at the end with the bytes of the file (as on disk,
+  /// compressed for .gz) read so far and its size; may be empty.
+  std::function<void(std::uint64_t done, std::uint64_t total)> progress;
 };
 
 /// Callbacks of the streaming reader; any may be empty. A scan is handed over by rvalue: move from it.
