@@ -11,7 +11,9 @@
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/io/labels_raster.hpp"
+#include "glassmap/io/ros_map.hpp"
 #include "glassmap/vector/export.hpp"
+#include "glassmap/vector/from_occupancy.hpp"
 #include "glassmap/vector/vectorize.hpp"
 
 namespace glassmap {
@@ -21,9 +23,49 @@ namespace fs = std::filesystem;
 
 struct VectorizeArgs {
   std::string labels, out, formats = "gpkg,geojson,dxf,svg,png", json;
+  std::string input = "auto";
+  double occupied_thresh = 0.65, free_thresh = 0.196;
+  vector::OccupancyOptions occupancy;
   bool no_regularize = false, quiet = false;
   vector::VectorizeOptions options;
 };
+
+// The input as a label grid, and where its lower-left corner lies (with the yaw of a ROS map).
+struct Input {
+  vector::LabelGrid grid;
+  Pose2 origin;         // applied to the fitted segments (grid.origin is then zero)
+  std::string read_as;  // "labels", "ROS occupancy map", "occupancy image"
+  vector::OccupancyStats occupancy;
+};
+
+Input readInput(const VectorizeArgs& a) {
+  Input in;
+  const std::string ext = fs::path(a.labels).extension().string();
+  const bool yaml = ext == ".yaml" || ext == ".yml";
+  if (yaml && a.input == "labels") throw Error("a map YAML is an occupancy map, not labels", a.labels, 0, "--input");
+  if (yaml) {
+    const OccupancyGridMap map = readRosMap(a.labels);
+    in.grid = vector::fromOccupancy(map, a.occupancy, &in.occupancy);
+    in.origin = map.origin;
+    in.read_as = "ROS occupancy map";
+    return in;
+  }
+  const LabelRaster raster = readLabelRaster(a.labels);
+  const bool labels = a.input == "labels" || (a.input == "auto" && vector::looksLikeLabelCodes(raster));
+  if (labels) {
+    in.grid = vector::toLabelGrid(raster);
+    in.read_as = "labels";
+    return in;
+  }
+  in.grid = vector::fromOccupancyRaster(raster, a.occupied_thresh, a.free_thresh, a.occupancy, &in.occupancy);
+  in.read_as = "occupancy image";
+  if (a.input == "auto" && !a.quiet)
+    std::cerr << "glassmap: " << a.labels
+              << ": values outside the label codes: read as an occupancy image (dark = occupied, "
+                 "occupancy = (255 - v) / 255 above "
+              << a.occupied_thresh << ", free below " << a.free_thresh << "; --input labels to override)\n";
+  return in;
+}
 
 // OUT: an existing directory or one ending in '/' -> DIR/floorplan; "name.<format>" -> "name"; else the stem itself.
 fs::path outputStem(const std::string& out) {
@@ -47,34 +89,46 @@ std::vector<std::string> splitFormats(const std::string& list) {
 
 void run(const VectorizeArgs& args) {
   const std::vector<std::string> formats = splitFormats(args.formats);
-  const vector::LabelGrid grid = vector::toLabelGrid(readLabelRaster(args.labels));
+  const Input input = readInput(args);
+  const vector::LabelGrid& grid = input.grid;
   vector::VectorizeOptions options = args.options;
   options.regularize = !args.no_regularize;
   vector::VectorizeResult r = vector::vectorize(grid, options);
+  r.map = vector::placeOnPose(std::move(r.map), input.origin);
   r.map.name = fs::path(args.labels).parent_path().filename().string();
   const fs::path stem = outputStem(args.out);
   if (stem.has_parent_path()) fs::create_directories(stem.parent_path());
   const auto written = vector::writeFloorplanSet(stem, r.map, formats);
 
   const auto& s = r.stats;
-  const nlohmann::json j = {{"labels", args.labels},
-                            {"glass_segments", r.map.count(Material::Glass)},
-                            {"wall_segments", r.map.count(Material::Wall)},
-                            {"glass_cells", s.glass_cells},
-                            {"wall_cells", s.wall_cells},
-                            {"regions", s.regions},
-                            {"bic_splits", s.bic_splits},
-                            {"merges", s.merges},
-                            {"face_merges", s.face_merges},
-                            {"regularized", s.regularized},
-                            {"corners", s.corners},
-                            {"dropped", s.dropped},
-                            {"dominant_axis_deg", s.dominant_axis_deg},
-                            {"seconds", s.seconds}};
+  const vector::OccupancyStats& o = input.occupancy;
+  const nlohmann::json j = {
+      {"labels", args.labels},
+      {"read_as", input.read_as},
+      {"occupancy",
+       {{"free", o.free}, {"occupied", o.occupied}, {"unknown", o.unknown}, {"solid_inside", o.solid_inside}}},
+      {"glass_segments", r.map.count(Material::Glass)},
+      {"wall_segments", r.map.count(Material::Wall)},
+      {"glass_cells", s.glass_cells},
+      {"wall_cells", s.wall_cells},
+      {"regions", s.regions},
+      {"bic_splits", s.bic_splits},
+      {"merges", s.merges},
+      {"face_merges", s.face_merges},
+      {"regularized", s.regularized},
+      {"corners", s.corners},
+      {"dropped", s.dropped},
+      {"dominant_axis_deg", s.dominant_axis_deg},
+      {"seconds", s.seconds}};
   if (!args.json.empty()) cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
-  std::printf("%-22s %zu x %zu cells at %.3f m\n", "labels", static_cast<std::size_t>(grid.width),
-              static_cast<std::size_t>(grid.height), grid.resolution);
+  std::printf("%-22s %zu x %zu cells at %.3f m (%s)\n", "input", static_cast<std::size_t>(grid.width),
+              static_cast<std::size_t>(grid.height), grid.resolution, input.read_as.c_str());
+  if (input.read_as != "labels")
+    std::printf(
+        "%-22s %zu free, %zu occupied (%zu inside solid areas, dropped: only faces of free space are walls), "
+        "%zu unknown\n",
+        "occupancy", o.free, o.occupied, o.solid_inside, o.unknown);
   std::printf("%-22s %zu glass, %zu wall\n", "cells", s.glass_cells, s.wall_cells);
   std::printf("%-22s %zu glass, %zu wall\n", "segments", r.map.count(Material::Glass), r.map.count(Material::Wall));
   std::printf("%-22s %zu regions, %zu BIC splits, %zu merges, %zu wall faces merged, %zu dropped\n", "fitting",
@@ -101,12 +155,33 @@ const cli::Registrar reg(50, [](CLI::App& app) {
   auto args = std::make_shared<VectorizeArgs>();
   CLI::App* cmd = app.add_subcommand(
       "vectorize",
-      "Fit wall and glass line segments to a label GeoTIFF (DIR/labels.tif of 'glassmap map').\n"
+      "Fit wall and glass line segments to a label GeoTIFF (DIR/labels.tif of 'glassmap map'), a ROS/nav2\n"
+      "occupancy map (map.yaml + PGM/PNG from slam_toolbox, cartographer, gmapping, map editors; mode,\n"
+      "negate, thresholds and origin yaw honoured) or any single-band occupancy image GDAL reads with a\n"
+      "geotransform (GeoTIFF, PNG + world file). In an occupancy map only the faces of free space are walls:\n"
+      "the inside of a solid occupied area (a building's outside drawn black, a filled pillar) is dropped.\n"
       "OUT is a stem: writes OUT.gpkg, OUT.geojson, OUT.dxf, OUT.svg, OUT.png (see --formats);\n"
       "an existing directory or a path ending in '/' writes DIR/floorplan.*; 'plan.gpkg' means the stem 'plan'.");
-  cmd->add_option("labels", args->labels, "label GeoTIFF (codes 0 unknown, 1 empty, 2 occupied, 10+k glass)")
+  cmd->add_option("labels", args->labels,
+                  "label GeoTIFF (codes 0 unknown, 1 empty, 2 occupied, 10+k glass), map YAML, or occupancy raster")
       ->required()
       ->check(CLI::ExistingFile);
+  cmd->add_option("--input", args->input,
+                  "what the raster holds: auto (a .yaml is a ROS map; a raster whose values are all label\n"
+                  "codes is labels, any other an occupancy image, said on stderr) | labels | occupancy")
+      ->check(CLI::IsMember({"auto", "labels", "occupancy"}))
+      ->capture_default_str();
+  cmd->add_option("--occupied-thresh", args->occupied_thresh,
+                  "occupancy image: (255 - v) / 255 above this is occupied (a map YAML has its own)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--free-thresh", args->free_thresh, "occupancy image: below this is free")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--face-cells", args->occupancy.face_cells,
+                  "occupancy maps: occupied cells farther than this from free space are a solid area's\n"
+                  "inside and dropped [cells]; -1 keeps every occupied cell")
+      ->capture_default_str();
   cmd->add_option("-o,--output", args->out, "output stem or directory")->required();
   cmd->add_option("--formats", args->formats, "comma-separated: gpkg,geojson,json,shp,fgb,dxf,svg,png,pdf")
       ->capture_default_str();

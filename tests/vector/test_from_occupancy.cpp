@@ -1,0 +1,84 @@
+// Occupancy maps from other programs: only the faces of free space are walls; a ROS map's origin
+// (with yaw) places the floorplan; an occupancy image is told apart from a label raster.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "glassmap/core/angles.hpp"
+#include "glassmap/vector/from_occupancy.hpp"
+#include "glassmap/vector/vectorize.hpp"
+
+namespace glassmap::vector {
+namespace {
+
+// A 6 x 4 m room and a 1 x 1 m pillar inside it, drawn the map-editor way: everything that is
+// not free space is occupied (the building's outside is solid black), 0.05 m cells.
+OccupancyGridMap solidRoom(double yaw = 0.0) {
+  OccupancyGridMap m;
+  m.resolution = 0.05;
+  m.width = 200;
+  m.height = 160;
+  m.origin = Pose2(10.0, -3.0, yaw);
+  m.data.assign(static_cast<std::size_t>(m.width) * m.height, 100);
+  for (int y = 0; y < m.height; ++y)
+    for (int x = 0; x < m.width; ++x) {
+      const double cx = (x + 0.5) * m.resolution, cy = (y + 0.5) * m.resolution;
+      const bool room = cx > 2.0 && cx < 8.0 && cy > 2.0 && cy < 6.0;
+      const bool pillar = cx > 4.0 && cx < 5.0 && cy > 3.5 && cy < 4.5;
+      if (room && !pillar) m.data[static_cast<std::size_t>(y) * m.width + x] = 0;
+    }
+  return m;
+}
+
+double wallLength(const VectorMap& map) {
+  double sum = 0;
+  for (const MapSegment& s : map.segments)
+    if (s.material == Material::Wall) sum += s.length();
+  return sum;
+}
+
+TEST(FromOccupancy, SolidAreasGiveTheirFacesOnly) {
+  OccupancyStats stats;
+  const LabelGrid faces = fromOccupancy(solidRoom(), {}, &stats);
+  EXPECT_GT(stats.solid_inside, 20000u);
+  const VectorizeResult r = vectorize(faces);
+  // Room perimeter 20 m plus the pillar's 4 m, nothing hatched inside the solid black.
+  EXPECT_NEAR(wallLength(r.map), 24.0, 2.0);
+  EXPECT_LE(r.map.count(Material::Wall), 12u);
+  EXPECT_EQ(r.map.count(Material::Glass), 0u);
+  // Keeping every occupied cell hatches the solid area with many parallel lines.
+  OccupancyOptions keep;
+  keep.face_cells = -1;
+  const VectorizeResult hatched = vectorize(fromOccupancy(solidRoom(), keep));
+  EXPECT_GT(wallLength(hatched.map), 3.0 * wallLength(r.map));
+}
+
+TEST(FromOccupancy, TheOriginAndItsYawPlaceTheFloorplan) {
+  const double yaw = deg2rad(30.0);
+  const OccupancyGridMap m = solidRoom(yaw);
+  const VectorMap placed = placeOnPose(vectorize(fromOccupancy(m)).map, m.origin);
+  // The room's corner (2, 2) in the grid lies at origin + R(yaw) (2, 2) in the map frame.
+  const Vec2 corner = m.origin * Vec2(2.0, 2.0);
+  double nearest = 1e9;
+  for (const MapSegment& s : placed.segments)
+    nearest = std::min({nearest, (s.a - corner).norm(), (s.b - corner).norm()});
+  EXPECT_LT(nearest, 0.1);
+}
+
+TEST(FromOccupancy, OccupancyImagesAreToldFromLabelRasters) {
+  LabelRaster labels;
+  labels.width = 3;
+  labels.height = 1;
+  labels.codes = {kCodeEmpty, kCodeOccupied, static_cast<std::uint8_t>(kCodeFirstGlass + 4)};
+  EXPECT_TRUE(looksLikeLabelCodes(labels));
+  LabelRaster image = labels;
+  image.codes = {254, 0, 205};
+  EXPECT_FALSE(looksLikeLabelCodes(image));
+  const LabelGrid g = fromOccupancyRaster(image, 0.65, 0.196, OccupancyOptions{-1});
+  EXPECT_EQ(g.codes[0], kCodeEmpty);
+  EXPECT_EQ(g.codes[1], kCodeOccupied);
+  EXPECT_EQ(g.codes[2], kCodeUnknown);
+}
+
+}  // namespace
+}  // namespace glassmap::vector
