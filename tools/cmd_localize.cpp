@@ -34,6 +34,8 @@ struct LocalizeArgs {
   std::string sensor;
   double global_temperature = 30.0;
   bool no_inject = false;
+  bool inject_always = false;
+  double lost_share = localize::FilterOptions{}.contradiction_share;
   bool quiet = false;
 };
 
@@ -64,6 +66,8 @@ void run(const LocalizeArgs& a) {
   opt.filter.min_particles = a.min_particles;
   opt.filter.adaptive = !a.fixed;
   opt.filter.inject = !a.no_inject;
+  opt.filter.inject_only_when_contradicted = !a.inject_always;
+  opt.filter.contradiction_share = a.lost_share;
   opt.filter.seed = a.seed;
   opt.filter.global_temperature = a.global_temperature;
   if (!a.init.empty()) {
@@ -169,6 +173,15 @@ const cli::Registrar reg(60, [](CLI::App& app) {
                   "global localization: divide log-likelihoods by this until the cloud converges")
       ->capture_default_str();
   sub->add_flag("--no-inject", a->no_inject, "never inject random particles (no recovery)");
+  sub->add_option("--lost-share", a->lost_share,
+                  "recovery waits until this share of the readings at the best particle (smoothed) runs\n"
+                  "through a wall")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  sub->add_flag("--inject-always", a->inject_always,
+                "recover (random particles, re-initialisation) whenever the likelihood drops, as plain augmented\n"
+                "MCL does. By default recovery waits until the map contradicts the estimate: more than 15% of the\n"
+                "readings at the best particle run over 0.5 m through a wall (clutter only shortens readings)");
   sub->add_option("--seed", a->seed, "random seed; the same seed gives the same estimate")->capture_default_str();
   sub->add_option("--json", a->json, "also write the summary as JSON");
   sub->add_option("--spread", a->spread,

@@ -24,6 +24,13 @@ double logSumExp(const std::vector<double>& v) {
   return m + std::log(s);
 }
 
+VectorMap wallsOf(const VectorMap& map) {
+  VectorMap walls;
+  for (const MapSegment& s : map.segments)
+    if (s.material == Material::Wall) walls.segments.push_back(s);
+  return walls;
+}
+
 std::int64_t binKey(const Pose2& p, double bin_xy, double bin_theta) {
   const auto ix = static_cast<std::int64_t>(std::floor(p.x() / bin_xy));
   const auto iy = static_cast<std::int64_t>(std::floor(p.y() / bin_xy));
@@ -57,7 +64,7 @@ std::size_t kldBound(std::size_t bins, double epsilon, double z) {
 }
 
 ParticleFilter::ParticleFilter(const sensor::SensorModel& model, FilterOptions options)
-    : model_(model), opt_(options), rng_(options.seed) {
+    : model_(model), opt_(options), rng_(options.seed), walls_(wallsOf(model.map())) {
   if (opt_.max_particles < 1) throw Error("the particle count must be positive", {}, 0, "particles");
   opt_.min_particles = std::clamp(opt_.min_particles, 1, opt_.max_particles);
   collectFreeCells();
@@ -172,6 +179,8 @@ void ParticleFilter::initialize(const Pose2& pose, double sigma_xy, double sigma
     p.log_w = log_w;
   }
   w_slow_ = w_fast_ = 0.0;
+  contradiction_ = 0.0;
+  known_start_ = true;
   annealing_ = false;
 }
 
@@ -183,6 +192,9 @@ void ParticleFilter::initializeGlobal() {
     p.log_w = log_w;
   }
   w_slow_ = w_fast_ = 0.0;
+  contradiction_ = 0.0;
+  known_start_ = false;
+  converged_at_ = -1.0;
   annealing_ = opt_.global_temperature > 1.0;
   travelled_ = 0.0;
 }
@@ -231,6 +243,27 @@ bool ParticleFilter::correct(const sensor::BeamSet& beams) {
     w_fast_ += opt_.alpha_fast * (w_avg - w_fast_);
   }
   for (Particle& p : particles_) p.log_w -= log_marginal;
+  if (opt_.inject_only_when_contradicted && !annealing_) {
+    // Readings through a wall at the best particle: what no clutter can explain.
+    const auto best = std::max_element(particles_.begin(), particles_.end(),
+                                       [](const Particle& a, const Particle& b) { return a.log_w < b.log_w; });
+    const Eigen::Matrix2d R = best->pose.rotation();
+    std::size_t valid = 0, through = 0;
+    for (std::size_t i = 0; i < beams.size(); ++i) {
+      const double z = beams.ranges[i];
+      if (!(z < beams.max_range)) continue;
+      ++valid;
+      const double e = walls_.castRange(best->pose.t, R * beams.dirs[i], beams.max_range);
+      through += z > e + opt_.contradiction_gate;
+    }
+    if (valid > 0) {
+      const double share = static_cast<double>(through) / static_cast<double>(valid);
+      contradiction_ += opt_.contradiction_rate * (share - contradiction_);
+    }
+  }
+  // A collapse of the likelihood to a fiftieth of its average (kidnapping) restarts the cloud
+  // whatever the walls say: a robot carried to a place that looks like where it was (a symmetric
+  // room) contradicts no wall. Milder drops only inject while the map contradicts the estimate.
   if (opt_.inject && !annealing_ && opt_.relocalize_ratio > 0 && w_fast_ < opt_.relocalize_ratio * w_slow_) {
     // Kidnapped or hopelessly lost: a few random particles over a whole floor rarely land near
     // the robot; start over with a full global cloud.
@@ -240,17 +273,24 @@ bool ParticleFilter::correct(const sensor::BeamSet& beams) {
     return true;
   }
   // No injection while annealing: the whole cloud is still a set of random guesses.
-  const double p_inject = opt_.inject && !annealing_ ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
+  const double p_inject = mayRecover() ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
   if (effectiveSampleSize() < opt_.resample_ess * static_cast<double>(n) || p_inject > 0.05) {
     resample();
     if (annealing_ && travelled_ >= opt_.anneal_min_travel && spread() < opt_.converged_spread) {
       annealing_ = false;
+      converged_at_ = travelled_;
       w_slow_ = w_fast_ = 0.0;  // the likelihood averages restart at the untempered scale
     }
     return true;
   }
   last_injected_ = 0;
   return false;
+}
+
+bool ParticleFilter::mayRecover() const {
+  if (!opt_.inject || annealing_) return false;
+  const bool trusted = known_start_ || (converged_at_ >= 0 && travelled_ - converged_at_ >= opt_.trust_after_m);
+  return !opt_.inject_only_when_contradicted || !trusted || contradiction_ > opt_.contradiction_share;
 }
 
 void ParticleFilter::resample() {
@@ -278,7 +318,7 @@ void ParticleFilter::resample() {
     }
     count = std::max(drawn, lo);
   }
-  const double p_inject = opt_.inject && !annealing_ && w_slow_ > 0 ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
+  const double p_inject = mayRecover() && w_slow_ > 0 ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
   const auto injected = static_cast<std::size_t>(std::floor(p_inject * static_cast<double>(count)));
   const std::size_t kept = count - injected;
   std::vector<Particle> next;

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "glassmap/geometry/ray_caster.hpp"
 #include "glassmap/localize/motion_model.hpp"
 #include "glassmap/sensor/sensor_model.hpp"
 
@@ -32,19 +33,31 @@ struct FilterOptions {
   double alpha_slow = 0.001;             ///< augmented MCL: long-term likelihood average rate [-]
   double alpha_fast = 0.1;               ///< augmented MCL: short-term likelihood average rate [-]
   bool inject = true;                    ///< inject random particles when the likelihood collapses
-  double relocalize_ratio = 0.02;        ///< w_fast / w_slow below this: the robot is lost beyond what
-                                         ///< injection repairs; restart global localization (0 = never)
-  double free_clearance = 0.2;           ///< random particles keep this distance from segments [m]
-  double free_reach = 40.0;              ///< ... and lie within this of some segment's box [m]: farther, a
-                                         ///< laser sees nothing (bounds memory when a map has strays far away)
-  double global_temperature = 30.0;      ///< while the cloud is spread (global localization), the
-                                         ///< log-likelihoods are divided by this: annealing that keeps
-                                         ///< near-miss hypotheses alive [-]; 1 = off
-  double converged_spread = 0.5;         ///< the cloud counts as converged below this std dev [m] ...
-  double anneal_min_travel = 5.0;        ///< ... after the robot travelled at least this far [m];
-                                         ///< meanwhile KLD keeps at least max_particles / 10
-  OdometryNoise noise;                   ///< motion model noise
-  std::uint64_t seed = 1;                ///< random seed: equal seeds give equal runs
+  /// Recovery only when the map contradicts the estimate: a reading longer than the walls allow
+  /// (through a wall, by more than contradiction_gate) cannot come from the right pose, while
+  /// clutter, people and unmapped furniture only shorten readings. Injection and re-initialisation
+  /// happen only while the smoothed share of such readings at the best particle exceeds
+  /// contradiction_share; false: whenever the likelihood drops (plain augmented MCL).
+  bool inject_only_when_contradicted = true;
+  double contradiction_gate = 0.5;    ///< [m]
+  double contradiction_share = 0.15;  ///< [-]
+  double contradiction_rate = 0.3;    ///< smoothing of the share per update [-]
+  double trust_after_m = 30.0;        ///< after a global localization the gate applies only once the
+                                      ///< cloud has stayed converged over this much travel [m]: a cloud
+                                      ///< that settled on a look-alike place still needs injection
+  double relocalize_ratio = 0.02;     ///< w_fast / w_slow below this: the robot is lost beyond what
+                                      ///< injection repairs; restart global localization (0 = never)
+  double free_clearance = 0.2;        ///< random particles keep this distance from segments [m]
+  double free_reach = 40.0;           ///< ... and lie within this of some segment's box [m]: farther, a
+                                      ///< laser sees nothing (bounds memory when a map has strays far away)
+  double global_temperature = 30.0;   ///< while the cloud is spread (global localization), the
+                                      ///< log-likelihoods are divided by this: annealing that keeps
+                                      ///< near-miss hypotheses alive [-]; 1 = off
+  double converged_spread = 0.5;      ///< the cloud counts as converged below this std dev [m] ...
+  double anneal_min_travel = 5.0;     ///< ... after the robot travelled at least this far [m];
+                                      ///< meanwhile KLD keeps at least max_particles / 10
+  OdometryNoise noise;                ///< motion model noise
+  std::uint64_t seed = 1;             ///< random seed: equal seeds give equal runs
 };
 
 /// The particle filter over a sensor model's map.
@@ -77,6 +90,10 @@ class ParticleFilter {
   std::size_t relocalizations() const { return relocalizations_; }
   /// Random particles injected at the last resampling.
   std::size_t lastInjected() const { return last_injected_; }
+  /// Smoothed share of readings at the best particle that run through a wall [-].
+  double contradiction() const { return contradiction_; }
+  /// True when recovery (injection, re-initialisation) may act now.
+  bool mayRecover() const;
   /// A random pose in free space.
   Pose2 randomFreePose();
 
@@ -97,6 +114,10 @@ class ParticleFilter {
   std::vector<Vec2> free_cells_;  // centres of free cells to draw random particles from
   double free_cell_ = 0.1;        // their size [m]
   double w_slow_ = 0.0, w_fast_ = 0.0;
+  RayCaster walls_;             // the map's walls only: glass may be seen through
+  double contradiction_ = 0.0;  // smoothed share of readings through a wall at the best particle
+  bool known_start_ = false;    // initialised at a given pose (not globally)
+  double converged_at_ = -1.0;  // travelled_ when a global localization's cloud converged, < 0: not yet
   std::size_t last_injected_ = 0;
   bool annealing_ = false;
   std::size_t relocalizations_ = 0;

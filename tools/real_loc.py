@@ -1,0 +1,138 @@
+#!/usr/bin/env python3
+"""Localization on real logs against their own floorplans (issue 14): each CARMEN log of
+../shared/data/real is mapped once (`glassmap map`, its floorplan is the map to localize in), then
+its odometry is replaced by the SLAM-corrected poses ("perfect") or by them made worse on purpose
+("drift": 3% scale error and 1 deg/m heading drift; "drift+noise": plus random-walk noise), and
+`glassmap localize` runs from the first corrected pose. The corrected poses are the truth.
+Prints ATE RMSE / max [m] per log, odometry and option set.
+
+Usage: tools/real_loc.py [--glassmap build/tools/glassmap] [--out out/real_loc]
+                         [--variants perfect,drift] [--options "default=;no-inject=--no-inject"] [log ...]
+"""
+import argparse
+import gzip
+import json
+import math
+import os
+import random
+import subprocess
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DATA = os.path.join(os.path.dirname(ROOT), "shared", "data", "real")
+LOGS = ["freiburg-079", "intel", "aces"]
+
+
+def flaser_fields(tokens):
+    n = int(tokens[1])
+    return n, 2 + n  # beam count, index of x
+
+
+def read_poses(path):
+    """(timestamp, x, y, theta) of each FLASER line's corrected pose, in file order."""
+    out = []
+    with gzip.open(path, "rt") as f:
+        for line in f:
+            t = line.split()
+            if not t or t[0] != "FLASER":
+                continue
+            n, i = flaser_fields(t)
+            out.append((float(t[i + 6]), float(t[i]), float(t[i + 1]), float(t[i + 2])))
+    return out
+
+
+def make_odometry(poses, variant, seed):
+    """Odometry poses from the corrected ones: perfect, or with scale error, heading drift, noise."""
+    if variant == "perfect":
+        return [(x, y, th) for _, x, y, th in poses]
+    rng = random.Random(seed)
+    scale, drift = 1.03, math.radians(1.0)  # 3% long, 1 deg of heading per metre
+    noise = variant == "drift+noise"
+    ox, oy, oth = poses[0][1], poses[0][2], poses[0][3]
+    out = [(ox, oy, oth)]
+    for (_, x0, y0, t0), (_, x1, y1, t1) in zip(poses, poses[1:]):
+        # Increment in the previous pose's frame.
+        dx, dy = x1 - x0, y1 - y0
+        c, s = math.cos(t0), math.sin(t0)
+        lx, ly = c * dx + s * dy, -s * dx + c * dy
+        dth = math.atan2(math.sin(t1 - t0), math.cos(t1 - t0))
+        dist = math.hypot(lx, ly)
+        lx, ly = lx * scale, ly * scale
+        dth += drift * dist
+        if noise:
+            lx += rng.gauss(0, 0.02 * dist)
+            ly += rng.gauss(0, 0.02 * dist)
+            dth += rng.gauss(0, 0.02 * abs(dth) + math.radians(0.5) * dist)
+        c, s = math.cos(oth), math.sin(oth)
+        ox, oy, oth = ox + c * lx - s * ly, oy + s * lx + c * ly, oth + dth
+        out.append((ox, oy, oth))
+    return out
+
+
+def write_log(src, dst, odom):
+    """The log with each FLASER line's odometry fields replaced, ODOM lines dropped."""
+    k = 0
+    with gzip.open(src, "rt") as f, open(dst, "w") as g:
+        for line in f:
+            t = line.split()
+            if not t or t[0] == "ODOM":
+                continue
+            if t[0] == "FLASER":
+                n, i = flaser_fields(t)
+                x, y, th = odom[k]
+                t[i + 3], t[i + 4], t[i + 5] = f"{x:.6f}", f"{y:.6f}", f"{th:.6f}"
+                k += 1
+                line = " ".join(t) + "\n"
+            g.write(line)
+
+
+def write_tum(poses, path):
+    with open(path, "w") as f:
+        for ts, x, y, th in poses:
+            f.write(f"{ts:.6f} {x:.6f} {y:.6f} 0 0 0 {math.sin(th / 2):.9f} {math.cos(th / 2):.9f}\n")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--glassmap", default=os.path.join(ROOT, "build", "tools", "glassmap"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "real_loc"))
+    ap.add_argument("--variants", default="perfect,drift,drift+noise")
+    ap.add_argument("--options", default="default=;no-inject=--no-inject",
+                    help="name=extra localize arguments, separated by ';'")
+    ap.add_argument("logs", nargs="*", default=LOGS)
+    a = ap.parse_args()
+    gm = a.glassmap
+    option_sets = [o.split("=", 1) for o in a.options.split(";") if o]
+    results = []
+    for name in a.logs:
+        src = os.path.join(DATA, f"{name}-corrected.log.gz")
+        base = os.path.join(a.out, name)
+        os.makedirs(base, exist_ok=True)
+        plan = os.path.join(base, "map", "floorplan.gpkg")
+        if not os.path.exists(os.path.join(base, "map", "stats.json")):
+            subprocess.run([gm, "map", src, "-o", os.path.join(base, "map"), "--no-return-range", "8", "-q"], check=True)
+        poses = read_poses(src)
+        truth = os.path.join(base, "truth.tum")
+        write_tum(poses, truth)
+        init = f"{poses[0][1]},{poses[0][2]},{poses[0][3]}"
+        for variant in a.variants.split(","):
+            log = os.path.join(base, f"{variant}.clf")
+            write_log(src, log, make_odometry(poses, variant, seed=1))
+            for opt_name, extra in option_sets:
+                est = os.path.join(base, f"{variant}-{opt_name}.tum")
+                js = os.path.join(base, f"{variant}-{opt_name}.json")
+                subprocess.run([gm, "localize", "--map", plan, log, "-o", est, "--init", init, "-q", "--json", js]
+                               + extra.split(), check=True)
+                ej = os.path.join(base, f"{variant}-{opt_name}-ate.json")
+                subprocess.run([gm, "eval", "traj", "--truth", truth, est, "--json", ej, "-q"], check=True)
+                ate = json.load(open(ej))
+                row = {"log": name, "odometry": variant, "options": opt_name,
+                       "rmse": ate["rmse"], "max": ate["max"]}
+                results.append(row)
+                print(f"{name:14s} {variant:12s} {opt_name:12s} ATE RMSE {row['rmse']:.3f} m, max {row['max']:.3f} m",
+                      flush=True)
+    with open(os.path.join(a.out, "results.json"), "w") as f:
+        json.dump(results, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
