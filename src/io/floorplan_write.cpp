@@ -19,6 +19,7 @@
 #include "dxf_text.hpp"
 #include "floorplan_detail.hpp"
 #include "gdal_util.hpp"
+#include "glassmap/core/angles.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "text_parse.hpp"
@@ -63,7 +64,8 @@ void verifyWritten(const fs::path& path, FloorplanFormat format, std::size_t exp
 }
 
 /// Writes the features of `map` into a new dataset at `target` with GDAL.
-void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat format, const fs::path& dxf_header) {
+void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat format, const fs::path& dxf_header,
+                   const FloorplanGeoref* georef) {
   GdalErrorCollector errors;
   const std::string driver_name(gdalDriverName(format));
   GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name.c_str());
@@ -74,20 +76,35 @@ void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat
   if (!ds) throw Error("cannot create " + driver_name + " file" + errors.suffix(), target.string());
 
   OGRSpatialReference srs;
-  const bool with_crs =
-      format == FloorplanFormat::Gpkg || format == FloorplanFormat::Shapefile || format == FloorplanFormat::FlatGeobuf;
-  if (with_crs && srs.importFromWkt(std::string(io_detail::kLocalWkt).c_str()) != OGRERR_NONE)
+  srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);  // easting, northing
+  const bool with_crs = format == FloorplanFormat::Gpkg || format == FloorplanFormat::Shapefile ||
+                        format == FloorplanFormat::FlatGeobuf || (georef && format == FloorplanFormat::GeoJson);
+  if (georef) {
+    if (srs.SetFromUserInput(georef->crs.c_str()) != OGRERR_NONE)
+      throw Error("unknown CRS '" + georef->crs + "'" + errors.suffix(), {}, 0, "crs");
+    if (!srs.IsProjected() || std::abs(srs.GetLinearUnits() - 1.0) > 1e-9)
+      throw Error("'" + georef->crs + "' is not a projected CRS in metres (a floorplan needs metric easting/northing)",
+                  {}, 0, "crs");
+  } else if (with_crs && srs.importFromWkt(std::string(io_detail::kLocalWkt).c_str()) != OGRERR_NONE) {
     throw Error("cannot build the local metric CRS" + errors.suffix());
+  }
   CPLStringList layer_options;
   if (format == FloorplanFormat::FlatGeobuf) layer_options.SetNameValue("SPATIAL_INDEX", "NO");
   if (format == FloorplanFormat::GeoJson) {
     layer_options.SetNameValue("RFC7946", "NO");
-    layer_options.SetNameValue("DESCRIPTION", io_detail::kGeoJsonMarker);  // read back as local metres
+    // Read back as local metres; a georeferenced file names its CRS instead.
+    if (!georef) layer_options.SetNameValue("DESCRIPTION", io_detail::kGeoJsonMarker);
   }
   if (format == FloorplanFormat::Shapefile) layer_options.SetNameValue("ENCODING", "UTF-8");
   OGRLayer* layer =
       ds->CreateLayer(io_detail::kFloorplanLayerName, with_crs ? &srs : nullptr, wkbLineString, layer_options.List());
   if (!layer) throw Error("cannot create layer" + errors.suffix(), target.string());
+  if (georef && format == FloorplanFormat::Gpkg) {
+    char origin[128];
+    std::snprintf(origin, sizeof origin, "%.6f %.6f %.12f", georef->origin.x(), georef->origin.y(),
+                  georef->origin.theta);
+    layer->SetMetadataItem("GLASSMAP_MAP_FRAME_ORIGIN", origin);
+  }
 
   if (format != FloorplanFormat::Dxf) {
     auto field = [&](const char* name, OGRFieldType type, int width = 0) {
@@ -132,7 +149,7 @@ void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat
   if (format != FloorplanFormat::Dxf) verifyWritten(target, format, map.segments.size());
 }
 
-void writeShapefile(const fs::path& target, const VectorMap& map) {
+void writeShapefile(const fs::path& target, const VectorMap& map, const FloorplanGeoref* georef) {
   // A shapefile is several files: build them in a temporary folder, then move each into place,
   // the .shp last so that a reader never sees a .shp without its sidecars.
   const fs::path dir = temporarySibling(target.parent_path() / (target.stem().string() + ".dir"));
@@ -143,7 +160,7 @@ void writeShapefile(const fs::path& target, const VectorMap& map) {
   if (ec) throw Error("cannot create temporary folder: " + ec.message(), dir.string());
   try {
     try {
-      writeWithGdal(dir / target.filename(), map, FloorplanFormat::Shapefile, {});
+      writeWithGdal(dir / target.filename(), map, FloorplanFormat::Shapefile, {}, georef);
     } catch (const Error& e) {
       throw Error(e.message(), target.string(), e.line(), e.field());  // the user's path, not ours
     }
@@ -166,12 +183,14 @@ void writeShapefile(const fs::path& target, const VectorMap& map) {
 
 }  // namespace
 
-void writeFloorplan(const fs::path& path, const VectorMap& map) {
+namespace {
+
+void writeIn(const fs::path& path, const VectorMap& map, const FloorplanGeoref* georef) {
   const FloorplanFormat format = floorplanFormatFromPath(path);
   checkSegments(map);
   io_detail::ensureGdalRegistered();
   switch (format) {
-    case FloorplanFormat::Shapefile: writeShapefile(path, map); return;
+    case FloorplanFormat::Shapefile: writeShapefile(path, map, georef); return;
     case FloorplanFormat::Dxf: {
       // The header template (metres, layers WALL and GLASS) lives in a temporary file beside the
       // output; the entities get their attributes as XDATA after GDAL has written them.
@@ -186,14 +205,28 @@ void writeFloorplan(const fs::path& path, const VectorMap& map) {
       const LiveTemporary live_header(header);
       io_detail::writeDxfHeaderTemplate(header);
       writeAtomically(path, [&](const fs::path& tmp) {
-        writeWithGdal(tmp, map, format, header);
+        writeWithGdal(tmp, map, format, header, georef);
         io_detail::addDxfXData(tmp, map);
         verifyWritten(tmp, format, map.segments.size());
       });
       return;
     }
-    default: writeAtomically(path, [&](const fs::path& tmp) { writeWithGdal(tmp, map, format, {}); });
+    default: writeAtomically(path, [&](const fs::path& tmp) { writeWithGdal(tmp, map, format, {}, georef); });
   }
+}
+
+}  // namespace
+
+void writeFloorplan(const fs::path& path, const VectorMap& map) { writeIn(path, map, nullptr); }
+
+void writeFloorplan(const fs::path& path, const VectorMap& map, const FloorplanGeoref& georef) {
+  VectorMap placed = map;
+  for (MapSegment& s : placed.segments) {
+    s.a = georef.origin * s.a;
+    s.b = georef.origin * s.b;
+    s.pane_angle = std::fmod(std::fmod(s.pane_angle + georef.origin.theta, kPi) + kPi, kPi);  // [0, pi)
+  }
+  writeIn(path, placed, &georef);
 }
 
 }  // namespace glassmap

@@ -10,6 +10,7 @@
 #include <string>
 #include <string_view>
 
+#include "glassmap/core/pose2.hpp"
 #include "glassmap/geometry/vector_map.hpp"
 
 namespace glassmap {
@@ -64,6 +65,21 @@ VectorMap readFloorplan(const std::filesystem::path& path, const FloorplanReadOp
 /// index, so features keep their order), DXF (layers WALL and GLASS in distinct colours, header
 /// $INSUNITS 6 = metres and $MEASUREMENT 1 = metric).
 void writeFloorplan(const std::filesystem::path& path, const VectorMap& map);
+
+/// Where the robot's map frame lies in a building's projected CRS: a point p of the map frame is
+/// origin * p there (easting, northing in metres; rotation of the map frame's x axis from east,
+/// counter-clockwise).
+struct FloorplanGeoref {
+  std::string crs;  ///< "EPSG:25832", a WKT or PROJ string: a projected CRS in metres
+  Pose2 origin;     ///< [m, m, rad]
+};
+
+/// writeFloorplan in the building's CRS: coordinates moved by georef.origin; GPKG, Shapefile and
+/// FlatGeobuf carry the CRS, GeoJSON names it in its "crs" member (not RFC 7946's lon/lat), DXF
+/// holds the building coordinates (DXF has no CRS). GPKG also records the origin (layer metadata
+/// GLASSMAP_MAP_FRAME_ORIGIN = "E N ROT_RAD") so the robot frame can be recovered. Throws Error
+/// for an unknown, geographic or non-metre CRS, naming it.
+void writeFloorplan(const std::filesystem::path& path, const VectorMap& map, const FloorplanGeoref& georef);
 
 /// WKT of the local engineering CRS written into GPKG, Shapefile and FlatGeobuf outputs.
 std::string_view localMetricCrsWkt();

@@ -1,0 +1,91 @@
+// Floorplans written in a building's projected CRS: coordinates moved by the map frame's origin,
+// the CRS carried (GPKG, GeoJSON's "crs" member), the origin recorded, bad CRSs refused.
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+#include <ogrsf_frmts.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "glassmap/core/angles.hpp"
+#include "glassmap/core/error.hpp"
+#include "glassmap/io/floorplan.hpp"
+
+namespace glassmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / "glassmap_test_georef";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+VectorMap plan() {
+  VectorMap m;
+  m.add({0, 0}, {10, 0}, Material::Wall);
+  m.add({10, 0}, {10, 5}, Material::Glass);
+  m.segments.back().pane_angle = 0.0;
+  return m;
+}
+
+TEST(Georeference, GpkgCarriesTheCrsTheOriginAndMovedCoordinates) {
+  FloorplanGeoref g;
+  g.crs = "EPSG:25832";
+  g.origin = Pose2(500000.0, 5400000.0, kPi / 2);
+  const fs::path f = scratch("plan.gpkg");
+  writeFloorplan(f, plan(), g);
+  const VectorMap back = readFloorplan(f);
+  ASSERT_EQ(back.segments.size(), 2u);
+  // (10, 0) in the map frame: 10 m north of the origin after a quarter turn.
+  EXPECT_NEAR(back.segments[0].b.x(), 500000.0, 1e-6);
+  EXPECT_NEAR(back.segments[0].b.y(), 5400010.0, 1e-6);
+  EXPECT_EQ(back.segments[1].material, Material::Glass);
+  EXPECT_NEAR(back.segments[1].pane_angle, kPi / 2, 1e-9);
+  GDALAllRegister();
+  GDALDatasetUniquePtr ds(GDALDataset::Open(f.string().c_str(), GDAL_OF_VECTOR));
+  ASSERT_TRUE(ds);
+  OGRLayer* layer = ds->GetLayer(0);
+  ASSERT_NE(layer->GetSpatialRef(), nullptr);
+  EXPECT_STREQ(layer->GetSpatialRef()->GetAuthorityCode(nullptr), "25832");
+  const char* origin = layer->GetMetadataItem("GLASSMAP_MAP_FRAME_ORIGIN");
+  ASSERT_NE(origin, nullptr);
+  std::istringstream in(origin);
+  double e = 0, n = 0, rot = 0;
+  in >> e >> n >> rot;
+  EXPECT_DOUBLE_EQ(e, 500000.0);
+  EXPECT_DOUBLE_EQ(n, 5400000.0);
+  EXPECT_NEAR(rot, kPi / 2, 1e-12);
+}
+
+TEST(Georeference, GeoJsonNamesItsCrs) {
+  FloorplanGeoref g;
+  g.crs = "EPSG:25832";
+  g.origin = Pose2(500000.0, 5400000.0, 0.0);
+  const fs::path f = scratch("plan.geojson");
+  writeFloorplan(f, plan(), g);
+  std::ifstream in(f);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("EPSG::25832"), std::string::npos);
+  const VectorMap back = readFloorplan(f);
+  ASSERT_EQ(back.segments.size(), 2u);
+  EXPECT_NEAR(back.segments[0].b.x(), 500010.0, 1e-6);
+}
+
+TEST(Georeference, RefusesGeographicAndUnknownCrs) {
+  FloorplanGeoref g;
+  g.origin = Pose2(1.0, 2.0, 0.0);
+  g.crs = "EPSG:4326";
+  EXPECT_THROW(writeFloorplan(scratch("bad.gpkg"), plan(), g), Error);
+  g.crs = "EPSG:999999";
+  EXPECT_THROW(writeFloorplan(scratch("bad.gpkg"), plan(), g), Error);
+  g.crs = "EPSG:2249";  // US survey feet
+  EXPECT_THROW(writeFloorplan(scratch("bad.gpkg"), plan(), g), Error);
+  EXPECT_FALSE(fs::exists(scratch("bad.gpkg")));
+}
+
+}  // namespace
+}  // namespace glassmap
