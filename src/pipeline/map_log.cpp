@@ -111,6 +111,18 @@ bool fitProfile(const LaserLog& log, const VectorMap& plan, const MapOptions& op
   return true;
 }
 
+// The fields applyProfile sets are equal.
+bool sameThresholds(const MapOptions& a, const MapOptions& b) {
+  const glass::DirectOptions &x = a.mapping.direct, &y = b.mapping.direct;
+  return x.direct_sigma_deg == y.direct_sigma_deg && x.direct_peak == y.direct_peak &&
+         x.direct_floor == y.direct_floor && x.sigmoid_margin == y.sigmoid_margin &&
+         a.mapping.beams.miss_margin == b.mapping.beams.miss_margin &&
+         a.phantom.glass_margin == b.phantom.glass_margin && a.phantom.block_margin == b.phantom.block_margin &&
+         a.vectorize.noise_floor == b.vectorize.noise_floor &&
+         a.vectorize.glass.max_distance == b.vectorize.glass.max_distance &&
+         a.vectorize.wall.max_distance == b.vectorize.wall.max_distance;
+}
+
 void countSegments(const VectorMap& plan, std::size_t& walls, std::size_t& panes) {
   for (const MapSegment& s : plan.segments) ++(s.material == Material::Wall ? walls : panes);
 }
@@ -132,13 +144,16 @@ MapMethod parseMapMethod(const std::string& name) {
   throw Error("unknown mapping method '" + name + "' (expected heuristic, direct or mrf)", {}, 0, "method");
 }
 
-void applyProfile(MapOptions& o, const SensorProfile& p) {
+bool applyProfile(MapOptions& o, const SensorProfile& p) {
   const MapOptions defaults;
   const double res = o.mapping.resolution;
   const double sigma = p.range_sigma_m.value;
   // A value the caller changed from its default is kept; a default follows the profile.
-  auto set = [](double& field, double default_value, double from_profile) {
-    if (field == default_value) field = from_profile;
+  bool changed = false;
+  auto set = [&changed](double& field, double default_value, double from_profile) {
+    if (field != default_value || field == from_profile) return;
+    field = from_profile;
+    changed = true;
   };
   const glass::DirectOptions& dd = defaults.mapping.direct;
   glass::DirectOptions& d = o.mapping.direct;
@@ -158,6 +173,7 @@ void applyProfile(MapOptions& o, const SensorProfile& p) {
       std::max(defaults.vectorize.glass.max_distance, 2.5 * sigma));
   set(o.vectorize.wall.max_distance, defaults.vectorize.wall.max_distance,
       std::max(defaults.vectorize.wall.max_distance, 2.5 * sigma));
+  return changed;
 }
 
 MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progress& progress) {
@@ -175,6 +191,7 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
     MapOptions first = options;
     first.fit_floorplan = true;
     MapResult pass = mapOnce(log, first, progress);
+    MapOptions last = first;  // the options of `pass`
     SensorProfile profile;
     sensor::CalibrationResult fit;
     for (int round = 0; round < options.calibration_rounds; ++round) {
@@ -186,10 +203,20 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
       profile.source = "calibrated from the log";
       MapOptions o = options;
       applyProfile(o, profile);
+      o.fit_floorplan = first.fit_floorplan;
+      // A profile that sets the very thresholds the last pass used would map the same labels.
+      if (sameThresholds(o, last)) break;
       pass = mapOnce(log, o, progress);
+      last = o;
     }
     const bool calibrated = out.calibrated;
     out = std::move(pass);
+    // The first pass fitted a floorplan to calibrate against; the caller asked for none.
+    if (!options.fit_floorplan && !options.prune_unfitted_glass) {
+      out.floorplan = {};
+      out.has_floorplan = false;
+      out.seconds.vectorize = 0.0;
+    }
     out.calibrated = calibrated;
     out.profile = profile;
     out.calibration = std::move(fit);

@@ -45,7 +45,8 @@ struct MapOptions {
   /// The laser's profile. Unset and `calibrate` on (the default): a first pass maps the log with
   /// the default thresholds, the profile is fitted against that pass's floorplan
   /// (sensor/calibrate.hpp), and the map is made again with the thresholds the profile sets
-  /// (applyProfile). Set: used as is, one pass.
+  /// (applyProfile), unless they are the ones the first pass used (then it is the map). Set: used
+  /// as is, one pass.
   std::optional<SensorProfile> sensor;
   bool calibrate = true;
   int calibration_rounds = 1;  ///< fit, re-map: this many times
@@ -65,7 +66,8 @@ struct MapOptions {
 /// noise floor and line distance. Values are never set below the defaults tuned for a 1-2 cm
 /// laser, so a precise laser keeps today's behaviour; a field the caller changed from its
 /// default (an explicit command-line option) is kept as given.
-void applyProfile(MapOptions& options, const SensorProfile& profile);
+/// Returns whether any threshold changed.
+bool applyProfile(MapOptions& options, const SensorProfile& profile);
 
 /// Wall-clock time of each step [s].
 struct MapTimes {
