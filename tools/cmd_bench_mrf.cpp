@@ -40,8 +40,10 @@ void run(const BenchMrfArgs& args) {
   mrf::LabelEnergy e;
   std::vector<uint16_t> truth;
   if (args.instance.empty()) {
-    auto inst = mrf::makeSyntheticInstance(args.synth, mrf::psiTable(mrf::parsePsi(args.psi), kDefaultBins));
+    const mrf::PsiKind kind = mrf::parsePsi(args.psi);
+    auto inst = mrf::makeSyntheticInstance(args.synth, mrf::psiTable(kind, kDefaultBins));
     e = std::move(inst.energy);
+    e.pairwise_dir = mrf::psiDirectionTables(kind, kDefaultBins);  // empty unless direction-dependent
     truth = std::move(inst.truth);
   } else {
     e = mrf::readInstance(args.instance);
@@ -146,7 +148,7 @@ const cli::Registrar reg(80, [](CLI::App& app) {
   sub->add_option("--noise", args->synth.noise, "unary noise near structure [nats]")->capture_default_str();
   sub->add_option("--unary-scale", args->synth.unary_scale, "synthetic classifier confidence factor")
       ->capture_default_str();
-  sub->add_option("--psi", args->psi, "pairwise table: paper | closed | neutral")->capture_default_str();
+  sub->add_option("--psi", args->psi, "pairwise table: paper | closed | neutral | pane")->capture_default_str();
   sub->add_option("--instance", args->instance, "read this binary instance instead of generating");
   sub->add_option("--solvers", args->solvers, "solvers to run, in order")->capture_default_str();
   sub->add_option("--max-cycles", args->options.max_cycles, "cycle limit")->capture_default_str();

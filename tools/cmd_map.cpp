@@ -23,7 +23,7 @@ struct MapArgs {
   std::string out;
   std::string method = "mrf";
   std::string mrf_solver = "expansion";
-  std::string mrf_psi = "closed";
+  std::string mrf_psi = "pane";
   int laser_id = 0;
   bool quiet = false;
   bool vectorize = true;
@@ -231,8 +231,9 @@ const cli::Registrar reg(40, [](CLI::App& app) {
       ->capture_default_str();
   cmd->add_option(
          "--mrf-psi", args->mrf_psi,
-         "mrf: pairwise table: paper (OCC free next to glass) | closed (glass next to OCC costs 0.6 too) | neutral")
-      ->check(CLI::IsMember({"paper", "closed", "neutral"}))
+         "mrf: pairwise table: paper (OCC free next to glass) | closed (glass next to OCC costs 0.6 too) | neutral |\n"
+         "pane (glass borders cost by direction: nothing across the pane, 0.6 where it would go on)")
+      ->check(CLI::IsMember({"paper", "closed", "neutral", "pane"}))
       ->capture_default_str();
   cmd->add_option("--mrf-weight", args->options.mrf.unary_weight, "mrf: weight of the -log posteriors against Psi")
       ->capture_default_str()

@@ -59,12 +59,12 @@ int64_t BinaryMoveSolver::changeEnergy(const std::vector<uint16_t>& labels) cons
       const std::size_t nc = static_cast<std::size_t>(ny) * w + nx;
       const int32_t j = node_of_[nc];
       if (j < 0) {
-        delta += int64_t{e_.psi(new_l, labels[nc])} - e_.psi(old_l, labels[nc]);
+        delta += int64_t{e_.psi(new_l, labels[nc], kClass[d])} - e_.psi(old_l, labels[nc], kClass[d]);
       } else if (next_[j] == cur_[j]) {
         const int lj = label(j, false);
-        delta += int64_t{e_.psi(new_l, lj)} - e_.psi(old_l, lj);
+        delta += int64_t{e_.psi(new_l, lj, kClass[d])} - e_.psi(old_l, lj, kClass[d]);
       } else if (static_cast<std::size_t>(j) > k) {
-        delta += int64_t{e_.psi(new_l, label(j, true))} - e_.psi(old_l, label(j, false));
+        delta += int64_t{e_.psi(new_l, label(j, true), kClass[d])} - e_.psi(old_l, label(j, false), kClass[d]);
       }
     }
   }
@@ -109,11 +109,11 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
       if (j >= 0) {
         arc_dir_[k * 8 + d] = static_cast<int32_t>(arcs.size());
         arcs.emplace_back(k, static_cast<uint32_t>(j));
-        if (static_cast<uint32_t>(j) > k) e_cur += e_.psi(labels[c], labels[nc]);
+        if (static_cast<uint32_t>(j) > k) e_cur += e_.psi(labels[c], labels[nc], kClass[d]);
       } else {  // fixed neighbour: its pair term is a unary of this variable
-        th0_[k] += e_.psi(l0_[k], labels[nc]);
-        th1_[k] += e_.psi(l1_[k], labels[nc]);
-        e_cur += e_.psi(labels[c], labels[nc]);
+        th0_[k] += e_.psi(l0_[k], labels[nc], kClass[d]);
+        th1_[k] += e_.psi(l1_[k], labels[nc], kClass[d]);
+        e_cur += e_.psi(labels[c], labels[nc], kClass[d]);
       }
     }
     tarc_[k] = static_cast<uint32_t>(arcs.size());
@@ -137,8 +137,9 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
       const uint32_t j = arcs[a].second;
       rev[a] = Edge(j, static_cast<uint32_t>(arc_dir_[j * 8 + (7 - d)]));
       if (j < k) continue;  // each pair once
-      int64_t A = e_.psi(l0_[k], l0_[j]), B = e_.psi(l0_[k], l1_[j]);
-      int64_t C = e_.psi(l1_[k], l0_[j]), D = e_.psi(l1_[k], l1_[j]);
+      const int cls = kClass[d];
+      int64_t A = e_.psi(l0_[k], l0_[j], cls), B = e_.psi(l0_[k], l1_[j], cls);
+      int64_t C = e_.psi(l1_[k], l0_[j], cls), D = e_.psi(l1_[k], l1_[j], cls);
       const int64_t deficit = A + D - B - C;
       if (deficit > 0) {
         // Raise the off-diagonal entries the current labelling does not use (Rother et al. 2005):

@@ -12,6 +12,8 @@ namespace glassmap::mrf::detail {
 /// 8-neighbourhood offsets; direction d and 7 - d are opposite.
 inline constexpr int kDx[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
 inline constexpr int kDy[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
+/// Direction class (edgeClass) of neighbour d.
+inline constexpr int kClass[8] = {3, 2, 1, 0, 0, 1, 2, 3};
 
 /// Cells a solver may change: active and with more than one candidate label.
 std::vector<uint32_t> movableCells(const LabelEnergy& e);

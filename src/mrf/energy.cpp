@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 
+#include "glassmap/core/angles.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 
@@ -51,14 +52,45 @@ const char* toString(PsiKind kind) {
     case PsiKind::Paper: return "paper";
     case PsiKind::Closed: return "closed";
     case PsiKind::Neutral: return "neutral";
+    case PsiKind::Pane: return "pane";
   }
   return "?";
 }
 
 PsiKind parsePsi(const std::string& name) {
-  for (PsiKind k : {PsiKind::Paper, PsiKind::Closed, PsiKind::Neutral})
+  for (PsiKind k : {PsiKind::Paper, PsiKind::Closed, PsiKind::Neutral, PsiKind::Pane})
     if (name == toString(k)) return k;
-  throw Error("unknown Psi '" + name + "' (expected paper, closed or neutral)", {}, 0, "psi");
+  throw Error("unknown Psi '" + name + "' (expected paper, closed, neutral or pane)", {}, 0, "psi");
+}
+
+double edgeClassAngle(int cls) {
+  constexpr double kAngles[4] = {0.0, 0.75 * kPi, 0.5 * kPi, 0.25 * kPi};
+  return kAngles[cls & 3];
+}
+
+std::vector<int32_t> psiDirectionTables(PsiKind kind, int num_glass_bins) {
+  if (kind != PsiKind::Pane) return {};
+  if (num_glass_bins < 1) throw Error("need at least one glass bin", {}, 0, "num_glass_bins");
+  const PsiWeights w;
+  const int n = kFirstGlass + num_glass_bins;
+  const std::size_t nn = static_cast<std::size_t>(n) * n;
+  std::vector<int32_t> tables(4 * nn, 0);
+  for (int cls = 0; cls < 4; ++cls) {
+    int32_t* t = tables.data() + cls * nn;
+    auto set = [&](int a, int b, double v) {
+      t[a * n + b] = scaled(v);
+      t[b * n + a] = scaled(v);
+    };
+    for (int a = kFirstGlass; a < n; ++a) {
+      const double normal = (a - kFirstGlass) * kPi / num_glass_bins;
+      const double c = std::cos(edgeClassAngle(cls) - (normal + 0.5 * kPi));
+      set(a, kEmpty, w.glass_empty * c * c);
+      set(a, kOccupied, w.glass_empty * c * c);
+      for (int b = kFirstGlass; b < n; ++b)
+        if (a != b) set(a, b, w.glass_glass);
+    }
+  }
+  return tables;
 }
 
 std::vector<int32_t> psiTable(PsiKind kind, int num_glass_bins) {
@@ -67,8 +99,21 @@ std::vector<int32_t> psiTable(PsiKind kind, int num_glass_bins) {
     case PsiKind::Paper: return paperPsi(num_glass_bins);
     case PsiKind::Closed: w.glass_occ = w.glass_empty; break;
     case PsiKind::Neutral: w.empty_occ = w.glass_empty; break;
+    case PsiKind::Pane: {
+      const std::vector<int32_t> dir = psiDirectionTables(kind, num_glass_bins);
+      const std::size_t nn = dir.size() / 4;
+      std::vector<int32_t> bound(dir.begin(), dir.begin() + static_cast<std::ptrdiff_t>(nn));
+      for (std::size_t cls = 1; cls < 4; ++cls)
+        for (std::size_t i = 0; i < nn; ++i) bound[i] = std::max(bound[i], dir[cls * nn + i]);
+      return bound;
+    }
   }
   return makePsi(num_glass_bins, w);
+}
+
+void setPsi(LabelEnergy& e, PsiKind kind, int num_glass_bins) {
+  e.pairwise = psiTable(kind, num_glass_bins);
+  e.pairwise_dir = psiDirectionTables(kind, num_glass_bins);
 }
 
 void validate(const LabelEnergy& e) {
@@ -80,6 +125,19 @@ void validate(const LabelEnergy& e) {
   for (int a = 0; a < e.num_labels; ++a)
     for (int b = 0; b < a; ++b)
       if (e.psi(a, b) != e.psi(b, a)) throw Error("pairwise table is not symmetric", {}, 0, "pairwise");
+  if (!e.pairwise_dir.empty()) {
+    const std::size_t nn = static_cast<std::size_t>(e.num_labels) * e.num_labels;
+    if (e.pairwise_dir.size() != 4 * nn)
+      throw Error("expected 4 x labels x labels direction tables", {}, 0, "pairwise_dir");
+    for (int cls = 0; cls < 4; ++cls)
+      for (int a = 0; a < e.num_labels; ++a)
+        for (int b = 0; b < a; ++b) {
+          if (e.psi(a, b, cls) != e.psi(b, a, cls))
+            throw Error("direction table is not symmetric", {}, 0, "pairwise_dir");
+          if (e.psi(a, b, cls) > e.psi(a, b))
+            throw Error("pairwise must bound every direction table", {}, 0, "pairwise");
+        }
+  }
   if (!e.active.empty() && e.active.size() != e.cells())
     throw Error("active mask must have one entry per cell", {}, 0, "active");
   if (!e.candidates.empty()) {
@@ -97,10 +155,10 @@ int64_t energy(const LabelEnergy& e, const std::vector<uint16_t>& labels) {
       const std::size_t c = static_cast<std::size_t>(y) * e.width + x;
       const int lc = labels[c];
       total += e.u(c, lc);
-      for (const auto& d : kForward) {
-        const int nx = x + d[0], ny = y + d[1];
+      for (int cls = 0; cls < 4; ++cls) {  // kForward[cls] has direction class cls
+        const int nx = x + kForward[cls][0], ny = y + kForward[cls][1];
         if (nx < 0 || nx >= e.width || ny >= e.height) continue;
-        total += e.psi(lc, labels[static_cast<std::size_t>(ny) * e.width + nx]);
+        total += e.psi(lc, labels[static_cast<std::size_t>(ny) * e.width + nx], cls);
       }
     }
   }
@@ -125,7 +183,9 @@ std::size_t restrictCandidates(LabelEnergy& e, int64_t margin) {
   for (int l = 0; l < n; ++l)
     for (int m = 0; m < n; ++m) {
       int64_t g = std::numeric_limits<int64_t>::min();
-      for (int k = 0; k < n; ++k) g = std::max<int64_t>(g, int64_t{e.psi(m, k)} - e.psi(l, k));
+      for (int k = 0; k < n; ++k)
+        for (int cls = 0; cls < (e.pairwise_dir.empty() ? 1 : 4); ++cls)
+          g = std::max<int64_t>(g, int64_t{e.psi(m, k, cls)} - e.psi(l, k, cls));
       gap[l * n + m] = 8 * std::max<int64_t>(g, 0);  // cells have at most 8 neighbours
     }
   e.candidates.assign(e.cells(), 0);
@@ -148,6 +208,9 @@ std::size_t restrictCandidates(LabelEnergy& e, int64_t margin) {
 }
 
 void writeInstance(const std::string& path, const LabelEnergy& e) {
+  if (!e.pairwise_dir.empty())
+    throw Error("the instance format holds one pairwise table: direction-dependent Psi (pane) cannot be written", path,
+                0, "pairwise_dir");
   validate(e);
   std::string bytes;
   bytes.reserve(12 + 4 * (e.unary.size() + e.pairwise.size()));

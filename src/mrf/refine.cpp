@@ -15,7 +15,8 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
   if (L != numLabels(ev.bins)) throw Error("evidence has inconsistent label count");
   if (options.tile < 8) throw Error("MRF tile must be at least 8 cells", {}, 0, "tile");
   if (options.unary_weight <= 0) throw Error("unary weight must be positive", {}, 0, "unary_weight");
-  const std::vector<int32_t> psi = psiTable(options.psi, ev.bins);
+  LabelEnergy psi_only;
+  setPsi(psi_only, options.psi, ev.bins);
   const auto solver = makeSolver(options.solver, options.solve);
   const std::vector<std::uint8_t> before = ev.label;
 
@@ -48,7 +49,8 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
         e.width = x1 - x0;
         e.height = y1 - y0;
         e.num_labels = L;
-        e.pairwise = psi;
+        e.pairwise = psi_only.pairwise;
+        e.pairwise_dir = psi_only.pairwise_dir;
         const std::size_t n = e.cells();
         e.unary.assign(n * static_cast<std::size_t>(L), 0);
         e.active.assign(n, 0);

@@ -194,18 +194,21 @@ class IcmSolver final : public MrfSolver {
     r.initial_energy = r.energy = energy(e, labels);
     const std::vector<uint32_t> cells = detail::movableCells(e);
     const int w = e.width, h = e.height, L = e.num_labels;
-    int neighbours[8];
+    int neighbours[8], classes[8];
     runCycles(o_, r, [&] {
       for (uint32_t c : cells) {
         const int x = static_cast<int>(c % w), y = static_cast<int>(c / w);
         int count = 0;
         for (int d = 0; d < 8; ++d) {
           const int nx = x + detail::kDx[d], ny = y + detail::kDy[d];
-          if (nx >= 0 && ny >= 0 && nx < w && ny < h) neighbours[count++] = labels[ny * w + nx];
+          if (nx >= 0 && ny >= 0 && nx < w && ny < h) {
+            classes[count] = detail::kClass[d];
+            neighbours[count++] = labels[ny * w + nx];
+          }
         }
         auto local = [&](int l) {
           int64_t v = e.u(c, l);
-          for (int i = 0; i < count; ++i) v += e.psi(l, neighbours[i]);
+          for (int i = 0; i < count; ++i) v += e.psi(l, neighbours[i], classes[i]);
           return v;
         };
         const int old = labels[c];

@@ -1,13 +1,17 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
 #include <random>
 
+#include "glassmap/core/angles.hpp"
 #include "glassmap/core/error.hpp"
+#include "glassmap/core/labels.hpp"
 #include "glassmap/mrf/energy.hpp"
 #include "glassmap/mrf/solver.hpp"
 #include "glassmap/mrf/synthetic.hpp"
@@ -18,7 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-enum class TestPsi { Potts, Paper, Random };
+enum class TestPsi { Potts, Paper, Random, Directional };
 
 /// Small random instance: unary in [0, 3000], Psi of the given kind over `labels` labels.
 LabelEnergy randomInstance(int w, int h, int labels, TestPsi kind, uint32_t seed) {
@@ -32,6 +36,18 @@ LabelEnergy randomInstance(int w, int h, int labels, TestPsi kind, uint32_t seed
   for (auto& v : e.unary) v = u(rng);
   if (kind == TestPsi::Paper) {
     e.pairwise = paperPsi(labels - kFirstGlass);
+  } else if (kind == TestPsi::Directional) {
+    // A random symmetric table per edge direction, and their maximum as the bound.
+    const std::size_t nn = static_cast<std::size_t>(labels) * labels;
+    e.pairwise_dir.assign(4 * nn, 0);
+    e.pairwise.assign(nn, 0);
+    for (int cls = 0; cls < 4; ++cls)
+      for (int a = 0; a < labels; ++a)
+        for (int b = 0; b < a; ++b) {
+          const int32_t v = u(rng) / 2;
+          e.pairwise_dir[cls * nn + a * labels + b] = e.pairwise_dir[cls * nn + b * labels + a] = v;
+          e.pairwise[a * labels + b] = e.pairwise[b * labels + a] = std::max(e.pairwise[a * labels + b], v);
+        }
   } else {
     e.pairwise.assign(static_cast<std::size_t>(labels) * labels, 0);
     const int32_t potts = std::uniform_int_distribution<int32_t>(300, 1500)(rng);
@@ -60,11 +76,11 @@ int64_t bruteForce(const LabelEnergy& e, std::vector<uint16_t>* best_labels = nu
     const int x = i % w, y = i / w;
     for (int l = 0; l < e.num_labels; ++l) {
       int64_t add = e.u(i, l);
-      if (x > 0) add += e.psi(l, lab[i - 1]);
+      if (x > 0) add += e.psi(l, lab[i - 1], edgeClass(-1, 0));
       if (y > 0) {
-        add += e.psi(l, lab[i - w]);
-        if (x > 0) add += e.psi(l, lab[i - w - 1]);
-        if (x + 1 < w) add += e.psi(l, lab[i - w + 1]);
+        add += e.psi(l, lab[i - w], edgeClass(0, -1));
+        if (x > 0) add += e.psi(l, lab[i - w - 1], edgeClass(-1, -1));
+        if (x + 1 < w) add += e.psi(l, lab[i - w + 1], edgeClass(1, -1));
       }
       lab[i] = static_cast<uint16_t>(l);
       dfs(i + 1, partial + add);
@@ -86,7 +102,7 @@ int64_t energyOrderedPairs(const LabelEnergy& e, const std::vector<uint16_t>& la
         for (int dx = -1; dx <= 1; ++dx) {
           const int nx = x + dx, ny = y + dy;
           if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= e.width || ny >= e.height) continue;
-          pairs2 += e.psi(lab[c], lab[ny * e.width + nx]);
+          pairs2 += e.psi(lab[c], lab[ny * e.width + nx], edgeClass(dx, dy));
         }
     }
   EXPECT_EQ(pairs2 % 2, 0);
@@ -125,10 +141,11 @@ int64_t bestExpansion(const LabelEnergy& e, const std::vector<uint16_t>& labels,
   *representable = true;
   for (int c : vars)
     for (int d : vars) {
-      const int dx = std::abs(c % e.width - d % e.width), dy = std::abs(c / e.width - d / e.width);
-      if (c == d || dx > 1 || dy > 1) continue;
-      const int64_t A = e.psi(labels[c], labels[d]), B = e.psi(labels[c], alpha);
-      const int64_t C = e.psi(alpha, labels[d]), D = e.psi(alpha, alpha);
+      const int sx = d % e.width - c % e.width, sy = d / e.width - c / e.width;
+      if (c == d || std::abs(sx) > 1 || std::abs(sy) > 1) continue;
+      const int cls = edgeClass(sx, sy);
+      const int64_t A = e.psi(labels[c], labels[d], cls), B = e.psi(labels[c], alpha, cls);
+      const int64_t C = e.psi(alpha, labels[d], cls), D = e.psi(alpha, alpha, cls);
       if (B + C < A + D) *representable = false;
     }
   return bestMove(e, labels, vars, l0, l1);
@@ -139,14 +156,54 @@ struct Case {
   TestPsi kind;
 };
 
-const Case kCases[] = {{4, 4, 3, TestPsi::Potts}, {4, 4, 3, TestPsi::Random}, {4, 4, 3, TestPsi::Paper},
-                       {3, 3, 5, TestPsi::Potts}, {3, 3, 5, TestPsi::Random}, {3, 3, 5, TestPsi::Paper}};
+const Case kCases[] = {{4, 4, 3, TestPsi::Potts},       {4, 4, 3, TestPsi::Random},     {4, 4, 3, TestPsi::Paper},
+                       {3, 3, 5, TestPsi::Potts},       {3, 3, 5, TestPsi::Random},     {3, 3, 5, TestPsi::Paper},
+                       {4, 4, 3, TestPsi::Directional}, {3, 3, 5, TestPsi::Directional}};
 
 MrfOptions untilNoGain() {
   MrfOptions o;
   o.min_cycle_gain = 0.0;
   o.max_cycles = 1000;
   return o;
+}
+
+TEST(MrfPanePsi, AThinPaneCostsAboutTheSamePerMetreAtAnyAngle) {
+  // A long pane rasterised as a thin digital line at each angle, glass labelled with the bin of
+  // its normal, empty everywhere else: the boundary cost per metre of pane.
+  constexpr int kBins = 36, kSize = 240;
+  LabelEnergy psi;
+  setPsi(psi, PsiKind::Pane, kBins);
+  LabelEnergy closed;
+  setPsi(closed, PsiKind::Closed, kBins);
+  auto costPerMetre = [&](const LabelEnergy& table, double angle_deg) {
+    LabelEnergy e = table;
+    e.width = e.height = kSize;
+    e.num_labels = numLabels(kBins);
+    e.unary.assign(e.cells() * e.num_labels, 0);
+    std::vector<uint16_t> lab(e.cells(), kEmpty);
+    const double a = deg2rad(angle_deg);
+    const int bin = static_cast<int>(std::lround(std::fmod(angle_deg + 90.0, 180.0) / (180.0 / kBins))) % kBins;
+    const double length = 150.0;  // cells
+    int cells = 0;
+    for (double t = -length / 2; t <= length / 2; t += 0.25) {
+      const int x = static_cast<int>(std::lround(kSize / 2 + t * std::cos(a)));
+      const int y = static_cast<int>(std::lround(kSize / 2 + t * std::sin(a)));
+      uint16_t& l = lab[static_cast<std::size_t>(y) * kSize + x];
+      if (l != glassLabel(bin)) ++cells;
+      l = static_cast<uint16_t>(glassLabel(bin));
+    }
+    EXPECT_GT(cells, 100);
+    return static_cast<double>(energy(e, lab)) / length;
+  };
+  const double ref = costPerMetre(psi, 0.0);
+  for (double angle : {25.0, 45.0, 65.0}) {
+    const double c = costPerMetre(psi, angle);
+    EXPECT_NEAR(c / ref, 1.0, 0.35) << angle;  // the old table: about 1.4x more on a diagonal
+    std::printf("pane at %2.0f deg: %.2f Psi units per cell length (closed Psi %.2f)\n", angle, c / kCostScale,
+                costPerMetre(closed, angle) / kCostScale);
+  }
+  // Across the pane is free, along it costs: half the closed table's tax per cell or less.
+  EXPECT_LT(ref, 0.5 * costPerMetre(closed, 0.0));
 }
 
 }  // namespace

@@ -54,7 +54,7 @@ std::int64_t globalEnergy(const glass::CellEvidence& ev, const mrf::RefineOption
   e.width = ev.geometry.width;
   e.height = ev.geometry.height;
   e.num_labels = ev.num_labels;
-  e.pairwise = mrf::psiTable(o.psi, ev.bins);
+  mrf::setPsi(e, o.psi, ev.bins);
   e.unary.assign(e.cells() * static_cast<std::size_t>(e.num_labels), 0);
   for (std::size_t i = 0; i < ev.cells.size(); ++i)
     for (int l = 0; l < e.num_labels; ++l)
@@ -74,7 +74,8 @@ TEST(MrfRefine, CleansANoisyPaneAndDropsIsolatedGlass) {
       glass::CellEvidence ev = noisyPane(seed);
       mrf::RefineOptions o;
       o.solver = solver;
-      o.tile = 20;  // several tiles: the pane crosses tile borders
+      o.psi = mrf::PsiKind::Closed;  // the costs below; the pane Psi charges an isolated cell only its two ends
+      o.tile = 20;                   // several tiles: the pane crosses tile borders
       // Unaries weighted 3x against Psi: at weight 1 a pane cell next to a wrong-angle cell pays
       // 3 + 6 x 0.6 as glass but only 5 + 2 x 0.6 as EMP, and local moves punch holes in the pane.
       o.unary_weight = 3.0;

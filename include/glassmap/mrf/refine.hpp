@@ -12,7 +12,7 @@ namespace glassmap::mrf {
 /// Settings of the refinement.
 struct RefineOptions {
   SolverKind solver = SolverKind::Expansion;  ///< graph-cut moves or ICM
-  PsiKind psi = PsiKind::Closed;              ///< pairwise table (see PsiKind)
+  PsiKind psi = PsiKind::Pane;                ///< pairwise table (see PsiKind)
   double unary_weight = 1.0;                  ///< scale of the -log posteriors against Psi [-]
   int tile = 256;                             ///< tile side [cells]; each tile is solved with its border fixed
   int sweeps = 2;                             ///< passes over all tiles (later passes see updated borders)
