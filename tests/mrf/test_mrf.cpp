@@ -202,8 +202,9 @@ TEST(MrfPanePsi, AThinPaneCostsAboutTheSamePerMetreAtAnyAngle) {
     std::printf("pane at %2.0f deg: %.2f Psi units per cell length (closed Psi %.2f)\n", angle, c / kCostScale,
                 costPerMetre(closed, angle) / kCostScale);
   }
-  // Across the pane is free, along it costs: half the closed table's tax per cell or less.
-  EXPECT_LT(ref, 0.5 * costPerMetre(closed, 0.0));
+  // Across the pane costs half, along it the full weight: at most three quarters of the closed
+  // table's tax at every angle.
+  for (double angle : {0.0, 25.0, 45.0, 65.0}) EXPECT_LT(costPerMetre(psi, angle), 0.75 * costPerMetre(closed, angle));
 }
 
 }  // namespace
