@@ -11,12 +11,12 @@ namespace {
 
 struct ExportArgs {
   std::string in, out;
-  std::string units;
+  std::string units, layers;
   bool quiet = false;
 };
 
 void run(const ExportArgs& args) {
-  const VectorMap map = cli::readPlan(args.in, args.units);
+  const VectorMap map = cli::readPlan(args.in, args.units, args.layers, args.quiet);
   vector::exportFloorplan(args.out, map);
   if (!args.quiet)
     std::printf("wrote %s: %zu glass and %zu wall segments\n", args.out.c_str(), map.count(Material::Glass),
@@ -34,6 +34,7 @@ const cli::Registrar reg(55, [](CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("output", args->out, "output file")->required();
   cli::addUnitsOption(*cmd, args->units);
+  cli::addLayersOption(*cmd, args->layers);
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing");
   cmd->callback([args] { run(*args); });
 });
