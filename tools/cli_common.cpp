@@ -42,15 +42,23 @@ CLI::App& verb(CLI::App& app, const std::string& name, const std::string& descri
   return *sub;
 }
 
-VectorMap readPlan(const std::string& path, const std::string& units, bool quiet, std::string* warning_out) {
+VectorMap readPlan(const std::string& path, const std::string& units, const std::string& layers, bool quiet,
+                   std::string* warning_out) {
   FloorplanUnits assumed;
+  FloorplanReadReport report;
   FloorplanReadOptions read;
   read.units = &assumed;
+  read.report = &report;
   if (!units.empty()) read.unit_in_metres = parseLengthUnit(units, "units");
+  read.layer_rules = parseLayerRules(layers, "--layers");
   VectorMap map = readFloorplan(path, read);
+  if (!quiet && (report.by_layer_names || !report.notes.empty() || !report.warnings.empty()))
+    std::cerr << formatReadReport(report);
   const std::string warning = implausibleExtentWarning(map, assumed, path);
-  if (!quiet && !warning.empty()) std::cerr << "glassmap: warning: " << warning << "\n";
-  if (warning_out != nullptr) *warning_out = warning;
+  if (warning_out != nullptr)
+    *warning_out = warning;
+  else if (!quiet && !warning.empty())
+    std::cerr << "glassmap: warning: " << warning << "\n";
   return map;
 }
 
@@ -59,6 +67,13 @@ void addUnitsOption(CLI::App& cmd, std::string& units) {
                  "units of the floorplan's coordinates, overriding what the file declares (CRS units,\n"
                  "DXF $INSUNITS; GDAL's default DXF header says inches): m, cm, mm, in, ft, us-ft, ... or\n"
                  "metres per unit; default: the file's own, metres when it declares none");
+}
+
+void addLayersOption(CLI::App& cmd, std::string& layers) {
+  cmd.add_option("--layers", layers,
+                 "CAD layer rules tried before the built-in table (AIA/NCS A-WALL, A-GLAZ, A-DOOR, ...):\n"
+                 "\"glass=A-GLAZ*,*WINDOW*;wall=A-WALL*;ignore=A-FURN*\" (case-insensitive globs, first\n"
+                 "match wins); unknown layers are read as wall and named on stderr");
 }
 
 void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j) {

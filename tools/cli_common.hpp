@@ -32,15 +32,20 @@ CLI::App& verb(CLI::App& app, const std::string& name, const std::string& descri
 /// Writes `j` (indented, newline-terminated) to `path` atomically; throws Error on failure.
 void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j);
 
-/// Reads a floorplan with `units` ("" = the file's own; else a parseLengthUnit name or number)
-/// and says on stderr what it assumed when that is doubtful: a warning when the plan's extent is
-/// implausible for a building (naming the units read and --units), unless `quiet`. The warning
-/// text (empty when none) also goes to *warning when given.
-VectorMap readPlan(const std::string& path, const std::string& units, bool quiet = false,
+/// Reads a floorplan with `units` ("" = the file's own; else a parseLengthUnit name or number) and
+/// `layers` (--layers rules, "" = the built-in layer table only). Unless `quiet`, says on stderr
+/// what was read as what when materials came from layer names (per layer: features, segments,
+/// material or why ignored), with its notes and warnings, and warns when the plan's extent is
+/// implausible for a building (naming the units read and --units); with `warning` given, that
+/// extent warning (empty when none) goes there instead of stderr.
+VectorMap readPlan(const std::string& path, const std::string& units, const std::string& layers, bool quiet = false,
                    std::string* warning = nullptr);
 
 /// Adds --units to a verb that reads floorplans (help text shared).
 void addUnitsOption(CLI::App& cmd, std::string& units);
+
+/// Adds --layers (CAD layer -> material rules) to a verb that reads floorplans.
+void addLayersOption(CLI::App& cmd, std::string& layers);
 
 /// Parses "x,y,theta" [m, m, rad]; throws Error naming `field` otherwise.
 Pose2 parsePose(const std::string& text, const std::string& field);

@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct CalibrateArgs {
-  std::string log, map, units, out, json, chart;
+  std::string log, map, units, layers, out, json, chart;
   int laser_id = 0;
   bool quiet = false;
   pipeline::MapOptions options;
@@ -45,7 +45,7 @@ void run(CalibrateArgs& a) {
   read.progress = cli::readProgress(show_progress);
   const LaserLog log = readCarmenLog(a.log, read);
   VectorMap plan;
-  if (!a.map.empty()) plan = cli::readPlan(a.map, a.units, a.quiet);
+  if (!a.map.empty()) plan = cli::readPlan(a.map, a.units, a.layers, a.quiet);
   auto progress = [&](const char* stage, double f) {
     if (!show_progress) return;
     const std::string_view s(stage);
@@ -136,6 +136,7 @@ const cli::Registrar reg(38, [](CLI::App& app) {
                   "wall and glass segments; without it the log's own map is used")
       ->check(CLI::ExistingFile);
   cli::addUnitsOption(*cmd, a->units);
+  cli::addLayersOption(*cmd, a->layers);
   cmd->add_option("-o,--output", a->out, "sensor profile to write (YAML)")->required();
   cmd->add_option("--json", a->json,
                   "also write the fit as JSON: every parameter with its standard error, the\n"

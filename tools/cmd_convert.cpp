@@ -13,12 +13,12 @@ namespace {
 struct ConvertArgs {
   std::string in, out;
   bool quiet = false;
-  std::string units;
+  std::string units, layers;
 };
 
 void run(const ConvertArgs& args) {
   const FloorplanFormat format = floorplanFormatFromPath(args.out);  // fail before reading
-  const VectorMap map = cli::readPlan(args.in, args.units == "0" ? "" : args.units, args.quiet);
+  const VectorMap map = cli::readPlan(args.in, args.units == "0" ? "" : args.units, args.layers, args.quiet);
   if (map.segments.empty()) throw Error("no line segments found in floorplan", args.in);
   writeFloorplan(args.out, map);
   if (args.quiet) return;
@@ -47,6 +47,7 @@ const cli::Registrar reg(20, [](CLI::App& app) {
                   "units of the input's coordinates, overriding what the file declares (CRS units, DXF\n"
                   "$INSUNITS; GDAL's default DXF header says inches): m, cm, mm, in, ft, us-ft, ... or metres\n"
                   "per unit (0 = the file's own); default: the file's own, metres when it declares none");
+  cli::addLayersOption(*sub, args->layers);
   sub->add_flag("-q,--quiet", args->quiet, "print nothing on success");
   sub->callback([args] { run(*args); });
 });

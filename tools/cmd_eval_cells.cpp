@@ -21,6 +21,7 @@ struct EvalCellsArgs {
   std::string labels;
   std::string json;
   eval::CellEvalOptions options;
+  std::string units, layers;  // of the truth
   bool quiet = false;
 };
 
@@ -29,7 +30,7 @@ nlohmann::json scoresJson(const eval::DetectionScores& s) {
 }
 
 void run(const EvalCellsArgs& args) {
-  const VectorMap truth = readFloorplan(args.truth);
+  const VectorMap truth = cli::readPlan(args.truth, args.units, args.layers, args.quiet);
   const LabelRaster raster = readLabelRaster(args.labels);
   grid::GridGeometry g;
   g.width = raster.width;
@@ -89,6 +90,8 @@ const cli::Registrar reg(70, [](CLI::App& app) {
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");
   cmd->add_option("--tolerance", args->options.tolerance_cells, "displacement tolerance [cells]")
       ->capture_default_str();
+  cli::addUnitsOption(*cmd, args->units);
+  cli::addLayersOption(*cmd, args->layers);
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing (use with --json)");
   cmd->callback([args] { run(*args); });
 });

@@ -21,6 +21,7 @@ namespace fs = std::filesystem;
 struct EvalSegmentsArgs {
   std::string truth, pred, json, visible_from;
   eval::SegmentEvalOptions options;
+  std::string units, layers;  // of the truth (layers: both)
   bool quiet = false;
 };
 
@@ -35,8 +36,8 @@ nlohmann::json scoresJson(const eval::MaterialScores& s) {
 }
 
 void run(const EvalSegmentsArgs& args) {
-  const VectorMap truth = readFloorplan(args.truth);
-  const VectorMap pred = readFloorplan(args.pred);
+  const VectorMap truth = cli::readPlan(args.truth, args.units, args.layers, args.quiet);
+  const VectorMap pred = cli::readPlan(args.pred, "", args.layers, args.quiet);
   const eval::SegmentEvalResult r = eval::evaluateSegments(truth, pred, args.options);
   // Recall against the truth the log had in line of sight; precision stays the full figure.
   eval::SegmentEvalResult seen;
@@ -107,6 +108,8 @@ const cli::Registrar reg(74, [](CLI::App& app) {
                   "had in line of sight (within range and field of view; glass is see-through)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");
+  cli::addUnitsOption(*cmd, args->units);
+  cli::addLayersOption(*cmd, args->layers);
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing (use with --json)");
   cmd->callback([args] { run(*args); });
 });

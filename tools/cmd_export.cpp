@@ -16,13 +16,13 @@ namespace fs = std::filesystem;
 
 struct ExportArgs {
   std::string in, out;
-  std::string units;
+  std::string units, layers;
   std::string crs, origin;
   bool quiet = false;
 };
 
 void run(const ExportArgs& args) {
-  const VectorMap map = cli::readPlan(args.in, args.units);
+  const VectorMap map = cli::readPlan(args.in, args.units, args.layers, args.quiet);
   if (args.crs.empty() != args.origin.empty()) throw Error("--crs and --origin go together", {}, 0, "--crs");
   if (!args.crs.empty()) {
     FloorplanGeoref georef;
@@ -69,6 +69,7 @@ const cli::Registrar reg(55, [](CLI::App& app) {
   cmd->add_option("--origin", args->origin,
                   "where the map frame lies in --crs: E,N,ROT = easting and northing of the map origin [m]\n"
                   "and the map x axis' angle from east, counter-clockwise [rad]");
+  cli::addLayersOption(*cmd, args->layers);
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing");
   cmd->callback([args] { run(*args); });
 });

@@ -26,7 +26,7 @@ struct LocalizeArgs {
   bool fixed = false;
   int beams = 15;
   std::string init;
-  std::string units;
+  std::string units, layers;
   std::string laser_offset;
   std::uint64_t seed = 1;
   double sigma_hit = 0.05;
@@ -41,7 +41,7 @@ struct LocalizeArgs {
 
 void run(const LocalizeArgs& a) {
   std::string scale_warning;
-  const VectorMap map = cli::readPlan(a.map, a.units, /*quiet=*/true, &scale_warning);
+  const VectorMap map = cli::readPlan(a.map, a.units, a.layers, a.quiet, &scale_warning);
   if (map.segments.empty()) throw Error("the map has no segments", a.map);
   // Localizing against a plan of the wrong scale gives a confident wrong answer: without an
   // explicit --units, refuse; with one, only warn.
@@ -161,6 +161,7 @@ const cli::Registrar reg(60, [](CLI::App& app) {
   sub->add_option("--init", a->init, "initial laser pose x,y,theta [m,m,rad]; without it: global localization");
   sub->add_option("--laser-offset", a->laser_offset, "laser pose on the robot x,y,theta [m,m,rad] (default 0,0,0)");
   cli::addUnitsOption(*sub, a->units);
+  cli::addLayersOption(*sub, a->layers);
   sub->add_option("--sigma-hit", a->sigma_hit, "range std dev of the sensor models [m]")
       ->capture_default_str()
       ->each([a](const std::string&) { a->sigma_hit_given = true; });

@@ -15,7 +15,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RenderArgs {
-  std::string floorplan, log, outcomes, out, units;
+  std::string floorplan, log, outcomes, out, units, layers;
   double ppm = 40.0;
   int every = 10;
 };
@@ -25,7 +25,7 @@ constexpr std::uint32_t kOutcomeColour[] = {0x9a9a9a, 0x2ca02c, 0xff7f0e, 0x17be
                                             0xffffff, 0xffffff, 0xbcbd22, 0x8c564b};
 
 void run(const RenderArgs& args) {
-  const VectorMap map = cli::readPlan(args.floorplan, args.units);
+  const VectorMap map = cli::readPlan(args.floorplan, args.units, args.layers);
   FloorplanPicture pic;
   pic.pixels_per_metre = args.ppm;
   if (!args.log.empty()) {
@@ -74,6 +74,7 @@ const cli::Registrar reg(35, [](CLI::App& app) {
       ->check(CLI::ExistingFile);
   sub->add_option("-o,--output", args->out, "output picture, .png or .svg")->required();
   cli::addUnitsOption(*sub, args->units);
+  cli::addLayersOption(*sub, args->layers);
   sub->add_option("--log", args->log, "CARMEN log: draw its laser poses and scan endpoints")->check(CLI::ExistingFile);
   sub->add_option("--outcomes", args->outcomes, "outcomes.bin written by 'glassmap simulate' for the same log")
       ->check(CLI::ExistingFile);

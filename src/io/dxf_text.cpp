@@ -2,6 +2,7 @@
 
 #include <cpl_conv.h>
 
+#include <cctype>
 #include <charconv>
 #include <fstream>
 #include <set>
@@ -10,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "floorplan_detail.hpp"
 #include "glassmap/core/error.hpp"
 #include "text_parse.hpp"
 
@@ -299,6 +301,113 @@ void addDxfXData(const fs::path& dxf, const VectorMap& map) {
                     std::to_string(map.segments.size()) + " segments",
                 dxf.string());
   writeGroups(dxf, out);
+}
+
+namespace {
+
+/// An LWPOLYLINE through the fit points of a SPLINE entity given by fit points only (groups
+/// [b, e) of the SPLINE); empty when the spline has control points (GDAL reads those itself).
+std::vector<Group> fitSplineAsPolyline(const std::vector<Group>& g, std::size_t b, std::size_t e) {
+  std::vector<Group> head, tail, points;
+  bool control = false, closed = false;
+  for (std::size_t i = b + 1; i < e; ++i) {
+    const int c = g[i].number();
+    if (c == 10) control = true;
+    if (c == 70) closed = (std::atoi(g[i].value.c_str()) & 1) != 0;
+    if (c == 11 || c == 21) points.push_back(group(c - 1, g[i].value));
+    if (c == 5 || c == 6 || c == 8 || c == 48 || c == 60 || c == 62 || c == 67 || c == 330 || c == 370 || c == 420 ||
+        c == 440)
+      head.push_back(g[i]);
+    if (c >= 1000) tail.push_back(g[i]);
+  }
+  if (control || points.size() < 4) return {};
+  std::vector<Group> out{group(0, "LWPOLYLINE")};
+  out.insert(out.end(), head.begin(), head.end());
+  out.push_back(group(100, "AcDbEntity"));
+  out.push_back(group(100, "AcDbPolyline"));
+  out.push_back(group(90, std::to_string(points.size() / 2)));
+  out.push_back(group(70, closed ? "1" : "0"));
+  out.insert(out.end(), points.begin(), points.end());
+  out.insert(out.end(), tail.begin(), tail.end());
+  return out;
+}
+
+}  // namespace
+
+DxfScan scanDxf(const fs::path& dxf) {
+  const std::vector<Group> g = readGroups(dxf);
+  DxfScan scan;
+  std::vector<Group> patched;
+  std::string section;
+  bool in_layer_table = false;
+  for (std::size_t i = 0; i < g.size();) {
+    // One record: a code-0 group and the groups up to the next one.
+    std::size_t e = i + 1;
+    while (e < g.size() && g[e].number() != 0) ++e;
+    const Group& x = g[i];
+    if (x.number() == 0 && x.value == "SECTION" && i + 1 < e && g[i + 1].number() == 2) section = g[i + 1].value;
+    if (x.number() == 0 && x.value == "ENDSEC") section.clear();
+    if (x.number() == 0 && x.value == "TABLE") in_layer_table = i + 1 < e && g[i + 1].is(2, "LAYER");
+    if (x.number() == 0 && x.value == "ENDTAB") in_layer_table = false;
+    if (section == "TABLES" && in_layer_table && x.is(0, "LAYER")) {
+      std::string name;
+      DxfLayerState state;
+      for (std::size_t k = i + 1; k < e; ++k) {
+        if (g[k].number() == 2) name = g[k].value;
+        if (g[k].number() == 70) state.frozen = (std::atoi(g[k].value.c_str()) & 1) != 0;
+        if (g[k].number() == 62) state.off = std::atoi(g[k].value.c_str()) < 0;
+      }
+      scan.layers[lower(name)] = state;
+    }
+    if (section == "ENTITIES" && x.number() == 0) {
+      for (std::size_t k = i + 1; k < e; ++k) {
+        if (g[k].number() != 5) continue;
+        std::string handle = g[k].value;
+        for (char& c : handle) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+        scan.entity_type[handle] = x.value;
+        break;
+      }
+    }
+    std::vector<Group> polyline;
+    if ((section == "ENTITIES" || section == "BLOCKS") && x.is(0, "SPLINE")) polyline = fitSplineAsPolyline(g, i, e);
+    if (!polyline.empty()) {
+      ++scan.fit_splines;
+      patched.insert(patched.end(), polyline.begin(), polyline.end());
+    } else {
+      patched.insert(patched.end(), g.begin() + static_cast<std::ptrdiff_t>(i),
+                     g.begin() + static_cast<std::ptrdiff_t>(e));
+    }
+    i = e;
+  }
+  if (scan.fit_splines > 0) {
+    for (const Group& x : patched) scan.patched += x.code + "\n" + x.value + "\n";
+  }
+  return scan;
+}
+
+std::string dxfIgnoreReason(const DxfScan& scan, bool paper_space, std::string_view handle, std::string_view subclasses,
+                            std::string_view layer) {
+  if (paper_space) return "paper space";
+  std::string h(handle);
+  for (char& c : h) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  const auto it = h.empty() ? scan.entity_type.end() : scan.entity_type.find(h);
+  const std::string type = it == scan.entity_type.end() ? std::string() : it->second;
+  static const std::pair<const char*, const char*> kinds[] = {
+      {"DIMENSION", "dimension"}, {"LEADER", "leader"}, {"HATCH", "hatch"},    {"MPOLYGON", "hatch"},
+      {"TEXT", "text"},           {"ATTRIB", "text"},   {"ATTDEF", "text"},    {"TOLERANCE", "tolerance"},
+      {"VIEWPORT", "viewport"},   {"IMAGE", "image"},   {"WIPEOUT", "wipeout"}};
+  for (const auto& [key, why] : kinds)
+    if (type.find(key) != std::string::npos) return why;  // also ARC_DIMENSION, MULTILEADER, MTEXT
+  static const std::pair<const char*, const char*> classes[] = {
+      {"AcDbDimension", "dimension"}, {"AcDbLeader", "leader"},     {"AcDbMLeader", "leader"}, {"AcDbHatch", "hatch"},
+      {"AcDbText", "text"},           {"AcDbMText", "text"},        {"AcDbAttribute", "text"}, {"AcDbFcf", "tolerance"},
+      {"AcDbViewport", "viewport"},   {"AcDbRasterImage", "image"}, {"AcDbWipeout", "wipeout"}};
+  for (const auto& [key, why] : classes)
+    if (subclasses.find(key) != std::string_view::npos) return why;
+  const auto state = scan.layers.find(lower(layer));
+  if (state != scan.layers.end() && state->second.frozen) return "frozen layer";
+  if (state != scan.layers.end() && state->second.off) return "layer off";
+  return {};
 }
 
 }  // namespace glassmap::io_detail

@@ -2,7 +2,11 @@
 // Private DXF text helpers: the header template handed to GDAL's DXF writer, and the XDATA that
 // carries segment attributes GDAL's writer has no place for.
 
+#include <cstddef>
 #include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
 
 #include "glassmap/geometry/vector_map.hpp"
 
@@ -24,6 +28,32 @@ double dxfUnitInMetres(const std::filesystem::path& dxf);
 /// GDAL's DXF driver, which loops for minutes on some misaligned files (GDAL 3.6, found by
 /// fuzzing). Binary DXF ("AutoCAD Binary DXF" sentinel) is left to GDAL.
 void checkDxfGroupCodes(const std::filesystem::path& dxf);
+
+/// What GDAL's DXF driver does not say about a layer: its state in the LAYER table.
+struct DxfLayerState {
+  bool frozen = false;  ///< flag 70 bit 1
+  bool off = false;     ///< negative colour (62)
+};
+
+/// What our own pass over a text DXF finds that GDAL (3.6) does not tell or does not read.
+struct DxfScan {
+  std::map<std::string, DxfLayerState> layers;     ///< by lower-case layer name
+  std::map<std::string, std::string> entity_type;  ///< ENTITIES section: upper-case handle -> entity
+                                                   ///< type (block references keep the handle of
+                                                   ///< the INSERT or DIMENSION that drew them)
+  std::size_t fit_splines = 0;                     ///< SPLINEs given by fit points only (GDAL drops them with an error)
+  std::string patched;                             ///< the file with those splines as LWPOLYLINEs through their fit
+                                                   ///< points (same handle, layer, paper space); empty when none
+};
+
+/// Scans a text DXF (after checkDxfGroupCodes) for layer states, entity types and fit-point splines.
+DxfScan scanDxf(const std::filesystem::path& dxf);
+
+/// Why a feature GDAL read from a DXF is not geometry of the building, "" when it is: paper space;
+/// drawn by (entity handle -> DIMENSION, LEADER, HATCH, TEXT, ...) or being (subclasses
+/// "AcDbEntity:AcDbDimension:...") an annotation entity; on a frozen or off layer.
+std::string dxfIgnoreReason(const DxfScan& scan, bool paper_space, std::string_view handle, std::string_view subclasses,
+                            std::string_view layer);
 
 /// Appends XDATA (application GLASSMAP: material, thickness, pane_angle, support, evidence) to
 /// the i-th line entity of a DXF written by GDAL from map.segments[i].

@@ -2,16 +2,20 @@
 // and CRSs to local metres.
 #include "glassmap/io/floorplan.hpp"
 
+#include <cpl_vsi.h>
 #include <gdal_priv.h>
 #include <ogr_geometry.h>
 #include <ogr_spatialref.h>
 #include <ogrsf_frmts.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <string>
 #include <system_error>
@@ -33,8 +37,6 @@ namespace {
 
 constexpr double kDefaultThickness = 0.1;  // [m]
 
-bool containsGlass(std::string_view s) { return lower(s).find("glass") != std::string::npos; }
-
 /// Scoped thread-local GDAL configuration option.
 class ScopedConfig {
  public:
@@ -53,8 +55,32 @@ class ScopedConfig {
   bool had_ = false;
 };
 
+/// A file in GDAL's /vsimem/ over a buffer the caller keeps alive; unlinked at scope exit.
+class MemFile {
+ public:
+  MemFile() = default;
+  MemFile(const MemFile&) = delete;
+  MemFile& operator=(const MemFile&) = delete;
+  ~MemFile() {
+    if (!file_) return;
+    VSIFCloseL(file_);
+    VSIUnlink(path_.c_str());
+  }
+  bool open(const std::string& path, std::string& buffer) {
+    path_ = path;
+    file_ = VSIFileFromMemBuffer(path.c_str(), reinterpret_cast<GByte*>(buffer.data()),
+                                 static_cast<vsi_l_offset>(buffer.size()), FALSE);
+    return file_ != nullptr;
+  }
+
+ private:
+  std::string path_;
+  VSILFILE* file_ = nullptr;
+};
+
 struct FeatureAttrs {
   Material material = Material::Wall;
+  bool material_set = false;  // by a field or XDATA, not by the layer name
   double thickness = kDefaultThickness;
   double pane_angle = 0.0;
   std::uint32_t support = 0;
@@ -118,7 +144,14 @@ void readXData(OGRFeature& f, int raw_idx, FeatureAttrs& a, bool& has_thickness,
     double num = 0.0;
     const bool is_num = io_detail::tryParseDouble(val, num);
     const std::string where = "feature " + std::to_string(f.GetFID()) + " XDATA " + std::string(key);
-    if (key == "thickness") {
+    if (key == "material") {
+      try {
+        a.material = parseMaterial(std::string(val));
+        a.material_set = true;
+      } catch (const Error& e) {
+        throw Error(e.message(), file, 0, where);
+      }
+    } else if (key == "thickness") {
       if (!is_num) throw Error("expected a number, got '" + std::string(val) + "'", file, 0, where);
       a.thickness = num;
       has_thickness = true;
@@ -130,6 +163,34 @@ void readXData(OGRFeature& f, int raw_idx, FeatureAttrs& a, bool& has_thickness,
       a.evidence = num;
     }
   }
+}
+
+/// Rows of the read report by (layer, outcome, why), in order of first appearance.
+class Tally {
+ public:
+  explicit Tally(FloorplanReadReport& r) : r_(r) {}
+  void add(const std::string& layer, const std::string& outcome, const std::string& why, std::size_t segments) {
+    const std::string key = layer + '\n' + outcome + '\n' + why;
+    auto [it, added] = index_.try_emplace(key, r_.rows.size());
+    if (added) r_.rows.push_back({layer, outcome, why, 0, 0});
+    ++r_.rows[it->second].features;
+    r_.rows[it->second].segments += segments;
+  }
+
+ private:
+  FloorplanReadReport& r_;
+  std::map<std::string, std::size_t> index_;
+};
+
+/// Why a DXF feature is not geometry of the building ("" when it is); see io_detail::dxfIgnoreReason.
+std::string dxfIgnoreReason(OGRFeature& f, const io_detail::DxfScan& scan, const std::string& cad_layer) {
+  auto text = [&](const char* name) {
+    const int i = f.GetFieldIndex(name);
+    return i >= 0 && f.IsFieldSetAndNotNull(i) ? std::string(f.GetFieldAsString(i)) : std::string();
+  };
+  const std::string paper = text("PaperSpace");
+  return io_detail::dxfIgnoreReason(scan, !paper.empty() && paper != "0", text("EntityHandle"), text("SubClasses"),
+                                    cad_layer);
 }
 
 }  // namespace
@@ -175,8 +236,28 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
   const std::string file = path.string();
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error("floorplan file does not exist" + io_detail::reason(ec), file);
-  if (lower(path.extension().string()) == ".dxf") io_detail::checkDxfGroupCodes(path);
+  FloorplanReadReport local_report;
+  FloorplanReadReport& report = options.report ? *options.report : local_report;
+  report = {};
+  io_detail::DxfScan scan;
+  std::string open_path = file;
+  MemFile patched;
+  if (lower(path.extension().string()) == ".dxf") {
+    io_detail::checkDxfGroupCodes(path);
+    scan = io_detail::scanDxf(path);
+    if (!scan.patched.empty()) {  // GDAL reads the copy whose fit-point splines are polylines
+      open_path = "/vsimem/glassmap_" + std::to_string(reinterpret_cast<std::uintptr_t>(&scan)) + "/" +
+                  path.filename().string();
+      if (!patched.open(open_path, scan.patched)) throw Error("cannot stage the DXF in memory", file);
+      report.notes.push_back(std::to_string(scan.fit_splines) +
+                             " spline(s) given only by fit points read as polylines through their fit points");
+    }
+  }
   ScopedConfig raw_codes("DXF_INCLUDE_RAW_CODE_VALUES", "TRUE");
+  // Blocks are exploded entity by entity, so each keeps its own layer (or the INSERT's, for
+  // entities on layer 0) and the handle of the INSERT or DIMENSION that drew it.
+  ScopedConfig inline_blocks("DXF_INLINE_BLOCKS", "TRUE");
+  ScopedConfig merge_blocks("DXF_MERGE_BLOCK_GEOMETRIES", "FALSE");
   // A known extension opens with its own driver only: no probing of every other driver's parser
   // on a file that is not theirs (faster, and a smaller surface for malformed input). Any other
   // OGR source is left to GDAL's probing.
@@ -187,7 +268,7 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
   }
   const char* const allowed[] = {driver.c_str(), nullptr};
   GDALDatasetUniquePtr ds(
-      GDALDataset::Open(file.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, driver.empty() ? nullptr : allowed));
+      GDALDataset::Open(open_path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, driver.empty() ? nullptr : allowed));
   if (!ds) throw Error("cannot open as a vector floorplan" + errors.suffix(), file);
   VectorMap map;
   map.name = path.stem().string();
@@ -197,6 +278,10 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
   const bool is_dxf = EQUAL(ds->GetDriverName(), "DXF");
   const double dxf_unit = is_dxf ? io_detail::dxfUnitInMetres(path) : 0.0;
   bool first_layer = true;
+  Tally tally(report);
+  std::map<std::string, std::size_t> unknown_layers;  // CAD layers read as wall by default: features
+  std::size_t ignored = 0;
+  const std::size_t gdal_failures = errors.failures();
   for (OGRLayer* layer : ds->GetLayers()) {
     double to_m = dxf_unit > 0.0 ? dxf_unit : 1.0;
     std::string source = dxf_unit > 0.0 ? "DXF $INSUNITS (" + io_detail::unitName(dxf_unit) + ")"
@@ -265,7 +350,6 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
     const int evidence_idx = defn->GetFieldIndex("evidence");
     const int dxf_layer_idx = defn->GetFieldIndex("Layer");
     const int raw_idx = defn->GetFieldIndex("RawCodeValues");
-    const bool layer_is_glass = containsGlass(layer->GetName());
     layer->ResetReading();
     for (auto& f : *layer) {
       FeatureAttrs a;
@@ -273,14 +357,13 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
       if (material_idx >= 0 && f->IsFieldSetAndNotNull(material_idx)) {
         try {
           a.material = parseMaterial(f->GetFieldAsString(material_idx));
+          a.material_set = true;
         } catch (const Error& e) {
           throw Error(e.message(), file, 0, where + " material");
         }
-      } else if (dxf_layer_idx >= 0 && f->IsFieldSetAndNotNull(dxf_layer_idx)) {
-        a.material = containsGlass(f->GetFieldAsString(dxf_layer_idx)) ? Material::Glass : Material::Wall;
-      } else {
-        a.material = layer_is_glass ? Material::Glass : Material::Wall;
       }
+      const bool has_cad_layer = dxf_layer_idx >= 0 && f->IsFieldSetAndNotNull(dxf_layer_idx);
+      const std::string source_layer = has_cad_layer ? f->GetFieldAsString(dxf_layer_idx) : layer->GetName();
       bool has_thickness = false;
       if (thickness_idx >= 0 && f->IsFieldSetAndNotNull(thickness_idx)) {
         a.thickness = f->GetFieldAsDouble(thickness_idx) * to_m;
@@ -293,6 +376,26 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
       if (support_idx >= 0 && f->IsFieldSetAndNotNull(support_idx))
         a.support = static_cast<std::uint32_t>(std::max<GIntBig>(0, f->GetFieldAsInteger64(support_idx)));
       if (evidence_idx >= 0 && f->IsFieldSetAndNotNull(evidence_idx)) a.evidence = f->GetFieldAsDouble(evidence_idx);
+      std::string why = "material field";
+      if (!a.material_set) {
+        report.by_layer_names = true;
+        why = is_dxf ? dxfIgnoreReason(*f, scan, source_layer) : std::string();
+        if (why.empty()) {
+          const LayerDecision d = classifyLayer(source_layer, options.layer_rules, has_cad_layer);
+          why = d.why;
+          if (d.role == LayerRole::Ignore) {
+            ++ignored;
+            tally.add(source_layer, "ignored", why, 0);
+            continue;
+          }
+          a.material = d.role == LayerRole::Glass ? Material::Glass : Material::Wall;
+          if (!d.known && has_cad_layer) ++unknown_layers[source_layer];
+        } else {
+          ++ignored;
+          tally.add(source_layer, "ignored", why, 0);
+          continue;
+        }
+      }
       const std::size_t first = map.segments.size();
       if (to_local) {
         std::unique_ptr<OGRGeometry> g(f->GetGeometryRef() ? f->GetGeometryRef()->clone() : nullptr);
@@ -306,8 +409,26 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
         if (!map.segments[i].a.allFinite() || !map.segments[i].b.allFinite())
           throw Error("non-finite coordinate (after scaling to metres)", file, 0, where + " geometry");
       }
+      tally.add(source_layer, std::string(toString(a.material)), why, map.segments.size() - first);
     }
   }
+  if (errors.failures() > gdal_failures)
+    report.warnings.push_back("GDAL could not read " + std::to_string(errors.failures() - gdal_failures) +
+                              " entities, missing from the plan (first: " + errors.messages().back() + ")");
+  if (ignored > 0 && map.segments.empty())
+    throw Error("every line of the floorplan was ignored (" + std::to_string(ignored) +
+                    " features: annotation, doors, paper space, frozen or off layers, ...); say which layers are "
+                    "walls and glass with --layers, e.g. \"wall=MYWALLS*;glass=MYGLASS*\"",
+                file);
+  if (!unknown_layers.empty()) {
+    std::string names;
+    for (const auto& [name, n] : unknown_layers)
+      names += (names.empty() ? "" : ", ") + name + " (" + std::to_string(n) + ")";
+    report.warnings.push_back("layer(s) with no known name read as wall: " + names +
+                              "; map them with --layers \"wall=...;glass=...;ignore=...\"");
+  }
+  if (report.by_layer_names && !map.segments.empty() && map.count(Material::Wall) == 0)
+    report.warnings.push_back("no line was read as wall: every line is glass");
   return map;
 }
 

@@ -9,9 +9,11 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "glassmap/core/pose2.hpp"
 #include "glassmap/geometry/vector_map.hpp"
+#include "glassmap/io/floorplan_layers.hpp"
 
 namespace glassmap {
 
@@ -34,9 +36,11 @@ struct FloorplanUnits {
 
 /// Options of readFloorplan.
 struct FloorplanReadOptions {
-  double unit_in_metres = 0.0;      ///< metres per file unit; 0: from the file (CRS linear units, DXF
-                                    ///< $INSUNITS; metres when the file declares none)
-  FloorplanUnits* units = nullptr;  ///< if set, receives what was assumed
+  double unit_in_metres = 0.0;            ///< metres per file unit; 0: from the file (CRS linear units, DXF
+                                          ///< $INSUNITS; metres when the file declares none)
+  FloorplanUnits* units = nullptr;        ///< if set, receives what was assumed
+  std::vector<LayerRule> layer_rules;     ///< user rules, tried before the built-in layer table
+  FloorplanReadReport* report = nullptr;  ///< if set, receives what was read as what
 };
 
 /// Metres per unit of a unit name: m, dm, cm, mm, km, in, ft, us-ft, yd; or a positive number
@@ -51,8 +55,13 @@ std::string implausibleExtentWarning(const VectorMap& map, const FloorplanUnits&
                                      const std::filesystem::path& path);
 
 /// Reads every line of any OGR vector source: LineString, MultiLineString and polygon rings;
-/// a polyline becomes its consecutive segments. Material from the `material` field, else from a
-/// `Layer` field (DXF) or the OGR layer name: containing "GLASS" (any case) means glass, else wall.
+/// a polyline becomes its consecutive segments. Material from the `material` field (or DXF XDATA),
+/// else from the CAD layer (`Layer` field): options.layer_rules, then standardLayerRules() (wall,
+/// glass, or ignored: annotation, doors, furniture, ...), unknown names as wall; else from the OGR
+/// layer name (user rules, the table's glass names, else wall). DXF: blocks are exploded with
+/// AutoCAD's layer inheritance (entities on layer 0 take the INSERT's layer); paper space, frozen
+/// and off layers, dimensions, leaders, hatches and text are ignored; splines given by fit points
+/// only are read as polylines through them. Throws Error when every line was ignored.
 /// Thickness from the `thickness` field (or DXF XDATA), default 0.1 m. Coordinates in a CRS with
 /// other linear units, or a DXF declaring other units ($INSUNITS: mm, cm, inches, ...), are scaled
 /// to metres (note: GDAL's own default DXF header declares inches); geographic (degree)
