@@ -10,7 +10,8 @@ packages=(
   build-essential cmake pkg-config git
   libcgal-dev libeigen3-dev libgdal-dev gdal-bin libboost-graph-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libcairo2-dev
-  nlohmann-json3-dev libyaml-cpp-dev libtbb-dev zlib1g-dev
+  nlohmann-json3-dev libyaml-cpp-dev libtbb-dev zlib1g-dev libzstd-dev liblz4-dev libsqlite3-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest
   python3 python3-matplotlib python3-yaml clang libclang-rt-14-dev
 )
 missing=()
