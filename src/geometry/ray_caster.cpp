@@ -335,6 +335,22 @@ RayHit RayCaster::finish(const Best& best, double ux, double uy) const {
   return hit;
 }
 
+double RayCaster::incidence(std::int32_t segment, const Vec2& dir) const {
+  const Seg& s = segs_[static_cast<std::size_t>(segment)];
+  const double ux = dir.x(), uy = dir.y();
+  return std::atan(std::abs(ux * s.dx + uy * s.dy) / std::abs(ux * s.dy - uy * s.dx));
+}
+
+RayHit RayCaster::castSurface(const Vec2& origin, const Vec2& dir, double max_range, std::int32_t skip) const {
+  const Best best = walk(origin.x(), origin.y(), dir.x(), dir.y(), max_range, skip);
+  RayHit hit;
+  if (best.id == kNone) return hit;
+  hit.range = best.t;
+  hit.segment = best.id;
+  hit.material = materials_[static_cast<std::size_t>(best.id)];
+  return hit;
+}
+
 RayHit RayCaster::cast(const Vec2& origin, double angle, double max_range, std::int32_t skip) const {
   return cast(origin, Vec2(std::cos(angle), std::sin(angle)), max_range, skip);
 }

@@ -223,8 +223,10 @@ bool ParticleFilter::correct(const sensor::BeamSet& beams) {
   std::vector<double> ll(n);
   // Weighting is the only parallel step: each particle's likelihood is a pure function of its
   // pose, so results do not depend on the thread count.
+  poses_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) poses_[i] = particles_[i].pose;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) ll[i] = model_.logLikelihood(particles_[i].pose, beams);
+    model_.logLikelihoods(std::span<const Pose2>(poses_).subspan(r.begin(), r.size()), beams, &ll[r.begin()]);
   });
   if (annealing_)
     for (double& v : ll) v /= opt_.global_temperature;

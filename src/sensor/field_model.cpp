@@ -29,7 +29,11 @@ DistanceGrid::DistanceGrid(const VectorMap& map, bool use_glass, double resoluti
   origin_ = lo;
   // Tiles of 64 cells, larger when the tile index would pass 4M entries (16 MB) on a huge extent.
   constexpr double kMaxIndex = 4.0 * 1024 * 1024;
-  tile_ = std::max(64, static_cast<int>(std::ceil(std::sqrt(double(nx_) * double(ny_) / kMaxIndex))));
+  // A power of two, so that the per-read tile number is a shift, not a division.
+  const int wanted = std::max(64, static_cast<int>(std::ceil(std::sqrt(double(nx_) * double(ny_) / kMaxIndex))));
+  tile_shift_ = 6;
+  while ((1 << tile_shift_) < wanted) ++tile_shift_;
+  tile_ = 1 << tile_shift_;
   tiles_x_ = (nx_ - 1 + tile_ - 1) / tile_ + 1;
   tiles_y_ = (ny_ - 1 + tile_ - 1) / tile_ + 1;
   stride_ = static_cast<std::size_t>(tile_ + 1) * static_cast<std::size_t>(tile_ + 1);
@@ -93,23 +97,6 @@ Eigen::AlignedBox2d DistanceGrid::bounds() const {
   return b;
 }
 
-double DistanceGrid::distance(const Vec2& p) const {
-  const double fx = (p.x() - origin_.x()) * inv_res_;
-  const double fy = (p.y() - origin_.y()) * inv_res_;
-  if (!(fx >= 0.0 && fy >= 0.0 && fx < nx_ - 1 && fy < ny_ - 1)) return max_dist_;
-  const int i = static_cast<int>(fx), j = static_cast<int>(fy);
-  const int tx = i / tile_, ty = j / tile_;
-  const std::int32_t k =
-      tile_index_[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x_) + static_cast<std::size_t>(tx)];
-  if (k < 0) return max_dist_;
-  const double u = fx - i, v = fy - j;
-  const float* c = &values_[static_cast<std::size_t>(k) * stride_ +
-                            static_cast<std::size_t>(j - ty * tile_) * static_cast<std::size_t>(tile_ + 1) +
-                            static_cast<std::size_t>(i - tx * tile_)];
-  const float* n = c + (tile_ + 1);
-  return (1 - v) * ((1 - u) * c[0] + u * c[1]) + v * ((1 - u) * n[0] + u * n[1]);
-}
-
 double DistanceGrid::exactDistance(const Vec2& p) const {
   double best = max_dist_;
   for (const MapSegment& s : segs_) best = std::min(best, s.distanceTo(p));
@@ -127,19 +114,26 @@ FieldModel::FieldModel(const VectorMap& map, const SensorParams& params)
   w_hit_ = params.z_hit / sum;
   w_max_ = params.z_max / sum;
   w_rand_ = params.z_rand / sum;
+  constexpr int kTable = 4096;
+  table_max_range_ = params.max_range;
+  table_inv_step_ = (kTable - 1) / grid_.maxDistance();
+  table_.resize(kTable + 1);
+  const double k = w_hit_ / (std::sqrt(2.0 * kPi) * sigma_), rand = w_rand_ / params.max_range;
+  const double h = -0.5 / (sigma_ * sigma_);
+  for (int i = 0; i <= kTable; ++i) {
+    const double d = std::min(i / table_inv_step_, grid_.maxDistance());
+    table_[static_cast<std::size_t>(i)] = std::log(k * std::exp(h * d * d) + rand);
+  }
 }
+
 
 double FieldModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const {
   if (z >= max_range) return std::log(std::max(w_max_, 1e-12));
-  const double d = grid_.distance(T_map_laser.t + z * dir);
-  const double u = d / sigma_;
-  return std::log(w_hit_ * std::exp(-0.5 * u * u) / (std::sqrt(2.0 * kPi) * sigma_) + w_rand_ / max_range);
+  return logHit(grid_.distance(T_map_laser.t + z * dir), max_range);
 }
 
 double FieldModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const {
   const Eigen::Matrix2d R = T_map_laser.rotation();
-  const double k = w_hit_ / (std::sqrt(2.0 * kPi) * sigma_), rand = w_rand_ / beams.max_range;
-  const double h = -0.5 / (sigma_ * sigma_);
   const double log_max = std::log(std::max(w_max_, 1e-12));
   double sum = 0.0;
   for (std::size_t i = 0; i < beams.size(); ++i) {
@@ -147,10 +141,41 @@ double FieldModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams)
       sum += log_max;
       continue;
     }
-    const double d = grid_.distance(T_map_laser.t + R * beams.points[i]);
-    sum += std::log(k * std::exp(h * d * d) + rand);
+    sum += logHit(grid_.distance(T_map_laser.t + R * beams.points[i]), beams.max_range);
   }
   return sum;
+}
+
+void FieldModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const {
+  // Beam-major: the end points of one beam from a cloud of nearby particles fall within a few
+  // cells of each other, so the grid reads share cache lines. Each out[j] still sums its beams in
+  // beam order, as logLikelihood(poses[j], beams) does.
+  constexpr std::size_t kBlock = 64;
+  const double log_max = std::log(std::max(w_max_, 1e-12));
+  for (std::size_t j0 = 0; j0 < poses.size(); j0 += kBlock) {
+    const std::size_t n = std::min(kBlock, poses.size() - j0);
+    double c[kBlock], s[kBlock], sum[kBlock];
+    for (std::size_t j = 0; j < n; ++j) {
+      c[j] = std::cos(poses[j0 + j].theta);
+      s[j] = std::sin(poses[j0 + j].theta);
+      sum[j] = 0.0;
+    }
+    for (std::size_t i = 0; i < beams.size(); ++i) {
+      if (beams.ranges[i] >= beams.max_range) {
+        for (std::size_t j = 0; j < n; ++j) sum[j] += log_max;
+        continue;
+      }
+      const Vec2& q = beams.points[i];
+      for (std::size_t j = 0; j < n; ++j) {
+        const Pose2& T = poses[j0 + j];
+        // As T.t + T.rotation() * q, operation for operation.
+        const double rx = c[j] * q.x() + (-s[j]) * q.y(), ry = s[j] * q.x() + c[j] * q.y();
+        const Vec2 p(T.t.x() + rx, T.t.y() + ry);
+        sum[j] += logHit(grid_.distance(p), beams.max_range);
+      }
+    }
+    for (std::size_t j = 0; j < n; ++j) out[j0 + j] = sum[j];
+  }
 }
 
 }  // namespace glassmap::sensor

@@ -49,7 +49,7 @@ GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& 
     double travelled = m.d_g;
     std::int32_t skip = hit.segment;
     for (int k = 1; k <= params_.max_panes; ++k) {
-      const RayHit next = caster_.cast(o, dir, max_range - travelled, skip);
+      const RayHit next = caster_.castSurface(o, dir, max_range - travelled, skip);
       if (!next.hit()) break;
       travelled += next.range;
       if (next.material == Material::Wall || k == params_.max_panes) {
@@ -57,8 +57,9 @@ GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& 
         break;
       }
       const MapSegment& s = caster_.map().segments[static_cast<std::size_t>(next.segment)];
-      offset +=
-          params_.offset >= 0 ? params_.offset : paneRangeElongation(s.thickness, next.incidence, params_.glass_index);
+      offset += params_.offset >= 0
+                    ? params_.offset
+                    : paneRangeElongation(s.thickness, caster_.incidence(next.segment, dir), params_.glass_index);
       o = o + next.range * dir;
       skip = next.segment;
     }
@@ -77,8 +78,10 @@ double GlassModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams)
 }
 
 double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, double max_range) const {
-  const RayHit hit = caster_.cast(origin, dir, max_range);
+  // The incidence angle (an atan) only where the model uses it: on glass.
+  RayHit hit = caster_.castSurface(origin, dir, max_range);
   if (!hit.hit() || hit.material == Material::Wall) return mix_.probability(z, hit.range, max_range);
+  hit.incidence = caster_.incidence(hit.segment, dir);
   const GlassModes m = modes(origin, dir, hit, max_range);
   const bool max_reading = z >= max_range;
   if (variant_ == Variant::Mixture) {

@@ -47,6 +47,10 @@ BeamSet makeBeamSet(const LaserScan& scan, int count) {
   return set;
 }
 
+void SensorModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const {
+  for (std::size_t j = 0; j < poses.size(); ++j) out[j] = logLikelihood(poses[j], beams);
+}
+
 double SensorModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const {
   const Eigen::Matrix2d R = T_map_laser.rotation();
   double sum = 0.0;

@@ -120,6 +120,13 @@ void compareWithBruteForce(const RayCaster& caster, std::mt19937& rng, int rays)
     if (::testing::Test::HasFatalFailure()) return;
     hits += b.hit();
     EXPECT_EQ(caster.castRange(o, d, max_range, skip), g.range);
+    const RayHit s = caster.castSurface(o, d, max_range, skip);
+    EXPECT_EQ(s.range, g.range);
+    EXPECT_EQ(s.segment, g.segment);
+    if (g.hit()) {
+      EXPECT_EQ(s.material, g.material);
+      EXPECT_EQ(caster.incidence(g.segment, d), g.incidence);
+    }
   }
   EXPECT_GT(hits, rays / 10);  // the comparison is not vacuous
 }

@@ -44,6 +44,14 @@ class RayCaster {
   /// Same as cast(origin, angle, ...) with a precomputed unit direction `dir` (no sin/cos).
   RayHit cast(const Vec2& origin, const Vec2& dir, double max_range, std::int32_t skip = -1) const;
 
+  /// cast() without the incidence angle (left 0; no atan): range, segment and material, for
+  /// callers that need the angle only for some materials (see incidence()).
+  RayHit castSurface(const Vec2& origin, const Vec2& dir, double max_range, std::int32_t skip = -1) const;
+
+  /// Angle between unit direction `dir` and the normal of segment `segment`, [0, pi/2] [rad]: what
+  /// cast() puts in RayHit::incidence.
+  double incidence(std::int32_t segment, const Vec2& dir) const;
+
   /// Range only [m] of the first hit along unit direction `dir`; +infinity when nothing is hit
   /// within max_range. The fastest entry point (no incidence angle, no material).
   double castRange(const Vec2& origin, const Vec2& dir, double max_range, std::int32_t skip = -1) const;

@@ -114,6 +114,7 @@ class ParticleFilter {
   std::vector<Vec2> free_cells_;  // centres of free cells to draw random particles from
   double free_cell_ = 0.1;        // their size [m]
   double w_slow_ = 0.0, w_fast_ = 0.0;
+  std::vector<Pose2> poses_;  // the particles' poses, contiguous, for the model's batch call
   RayCaster walls_;             // the map's walls only: glass may be seen through
   double contradiction_ = 0.0;  // smoothed share of readings through a wall at the best particle
   bool known_start_ = false;    // initialised at a given pose (not globally)

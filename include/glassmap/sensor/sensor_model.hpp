@@ -4,6 +4,7 @@
 /// Everything is returned as a natural log-likelihood.
 
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -79,6 +80,10 @@ class SensorModel {
   virtual double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const = 0;
   /// Sum over the beams of logLikelihood.
   virtual double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const;
+  /// logLikelihood(poses[j], beams) into out[j] for every pose, bit for bit as one call per pose;
+  /// a model may order the work beam-major (all poses' end points of one beam, then the next), which
+  /// keeps the map reads of nearby particles together in cache.
+  virtual void logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const;
   /// The same for a beam at `angle` [rad] in the laser frame.
   double beamLogLikelihood(const Pose2& T_map_laser, double angle, double z, double max_range) const;
   /// The map the model was built on.
