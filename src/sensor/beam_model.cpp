@@ -34,4 +34,10 @@ double BeamModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) 
   });
 }
 
+void BeamModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const {
+  sumLogProbabilitiesBatch(poses, beams, out, [&](const Pose2& T_map_laser, const Vec2& dir, double z) {
+    return probability(T_map_laser.t, dir, z, beams.max_range);
+  });
+}
+
 }  // namespace glassmap::sensor

@@ -111,4 +111,10 @@ double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, do
   return std::max(p, mix_.w_rand / max_range);
 }
 
+void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const {
+  sumLogProbabilitiesBatch(poses, beams, out, [&](const Pose2& T_map_laser, const Vec2& dir, double z) {
+    return probability(T_map_laser.t, dir, z, beams.max_range);
+  });
+}
+
 }  // namespace glassmap::sensor

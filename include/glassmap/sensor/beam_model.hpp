@@ -15,6 +15,7 @@ class BeamModel final : public SensorModel {
   std::string name() const override { return "beam"; }
   double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const override;
   double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const override;
+  void logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const override;
   const VectorMap& map() const override { return map_; }
 
  private:

@@ -36,6 +36,7 @@ class GlassModel final : public SensorModel {
   std::string name() const override { return variant_ == Variant::Paper ? "glass-paper" : "glass"; }
   double logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const override;
   double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const override;
+  void logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const override;
   const VectorMap& map() const override { return caster_.map(); }
 
   /// The modes for a pane hit `hit` by the ray origin + s dir (casts the mirrored and continued rays).

@@ -2,7 +2,9 @@
 /// The beam-model mixture (Probabilistic Robotics eq. 6.4-6.12) as densities over a reading z in
 /// [0, z_max) plus a point mass at z_max. Shared by the beam and glass models.
 
+#include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "glassmap/sensor/sensor_model.hpp"
 
@@ -45,6 +47,35 @@ double sumLogProbabilities(const Pose2& T_map_laser, const BeamSet& beams, Prob&
     }
   }
   return sum + std::log(block);
+}
+
+/// sumLogProbabilities(poses[j], beams, prob(pose, dir, z)) into out[j] for every pose, beam-major
+/// over blocks of 64 poses (the rays of one beam from nearby particles walk the same cells one
+/// after the other, which keeps them in cache); each out[j] is computed operation for operation
+/// as the one-pose call computes it.
+template <class Prob>
+void sumLogProbabilitiesBatch(std::span<const Pose2> poses, const BeamSet& beams, double* out, Prob&& prob) {
+  constexpr std::size_t kBlock = 64;
+  for (std::size_t j0 = 0; j0 < poses.size(); j0 += kBlock) {
+    const std::size_t n = std::min(kBlock, poses.size() - j0);
+    Eigen::Matrix2d R[kBlock];
+    double sum[kBlock], block[kBlock];
+    for (std::size_t j = 0; j < n; ++j) {
+      R[j] = poses[j0 + j].rotation();
+      sum[j] = 0.0;
+      block[j] = 1.0;
+    }
+    for (std::size_t i = 0; i < beams.size(); ++i) {
+      for (std::size_t j = 0; j < n; ++j) block[j] *= prob(poses[j0 + j], Vec2(R[j] * beams.dirs[i]), beams.ranges[i]);
+      if ((i & 7) == 7) {
+        for (std::size_t j = 0; j < n; ++j) {
+          sum[j] += std::log(block[j]);
+          block[j] = 1.0;
+        }
+      }
+    }
+    for (std::size_t j = 0; j < n; ++j) out[j0 + j] = sum[j] + std::log(block[j]);
+  }
 }
 
 }  // namespace glassmap::sensor
