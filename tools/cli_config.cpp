@@ -151,8 +151,13 @@ class YamlVerbConfig : public CLI::Config {
     if (state_->loaded < state_->files.size()) file = state_->files[state_->files.size() - 1 - state_->loaded++];
     const CLI::App* leaf = state_->root;
     while (!leaf->get_subcommands().empty()) leaf = leaf->get_subcommands().front();
-    if (leaf == state_->root) throw Error("a config file belongs to a verb: glassmap <verb> -c FILE.yaml", file);
-    return readVerbConfig(in, *leaf, file);
+    // As a FileError, CLI11 reports it after --help has had its say.
+    if (leaf == state_->root) throw CLI::FileError(file + ": a config file belongs to a verb: glassmap VERB -c FILE");
+    try {
+      return readVerbConfig(in, *leaf, file);
+    } catch (const Error& e) {
+      throw CLI::FileError(e.what());
+    }
   }
 
  private:
