@@ -183,7 +183,7 @@ std::vector<CLI::ConfigItem> readVerbConfig(std::istream& in, const CLI::App& le
   YAML::Node doc;
   try {
     doc = YAML::Load(in);
-  } catch (const YAML::ParserException& e) {
+  } catch (const YAML::Exception& e) {  // syntax, undefined aliases, ...
     throw Error("YAML syntax: " + e.msg, file, e.mark.is_null() || e.mark.line < 0 ? 0 : e.mark.line + 1);
   }
   if (!doc || doc.IsNull()) return {};
