@@ -3,6 +3,7 @@
 #include <new>
 
 #include "cli_common.hpp"
+#include "cli_config.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 
@@ -16,6 +17,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "glassmap 0.1.0");
   glassmap::cli::registerAll(app);
+  glassmap::cli::addConfigOptions(app);  // -c FILE.yaml and --write-config on every verb
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
