@@ -389,6 +389,7 @@ LaserLog readCarmenLog(const fs::path& path, const CarmenReadOptions& options) {
   cb.on_true_pose = [&](const StampedPose& p) { log.true_poses.push_back(p); };
   cb.on_param = [&](const std::string& k, const std::string& v) { log.params[k] = v; };
   log.stats = forEachCarmenRecord(path, cb, options);
+  if (options.detect_max_range_code) markMaxRangeCode(log);
   if (options.require_scans && log.scans.empty()) {
     std::string what = log.stats.lines == 0 ? "file is empty" : std::to_string(log.stats.lines) + " lines read";
     throw Error("no laser scans (ROBOTLASER1, FLASER, RLASER or RAWLASER1..4 lines) in log (" + what + ")",

@@ -64,6 +64,9 @@ struct LogReadStats {
   std::size_t true_poses = 0;                          ///< TRUEPOS records
   std::size_t params = 0;                              ///< PARAM records
   std::size_t filtered_scans = 0;                      ///< scans dropped by a reader option (laser_id)
+  double max_range_code = 0.0;                         ///< the scanner's "no return" value found in the data
+                                                       ///< (see markMaxRangeCode) [m]; 0: none found
+  std::size_t max_range_code_readings = 0;             ///< readings at that value
 };
 
 /// A whole log in memory.
@@ -80,5 +83,15 @@ struct LaserLog {
   std::map<std::string, std::string> params;  ///< PARAM name -> value
   LogReadStats stats;
 };
+
+/// Many scanners report "no return" as one fixed value (a SICK LMS in CARMEN logs: 81.83 or
+/// 81.91 m, or the 50 m a driver was configured with) while the log's header says another maximum
+/// (CARMEN's FLASER lines carry none; readers guess 80 m). In the data that value is a spike at the
+/// very top of the readings. When the largest finite reading of a laser (by laser_id) is shared,
+/// within 5 mm, by at least 0.1% of its readings (and 5 readings), it is taken as the max-range
+/// code and stats records it; when it lies below a scan's max_range (or that is unset), the scan
+/// gets max_range = code - 5 mm, so those readings count as max readings (isReturn false). Returns whether a
+/// code was found. A log whose top readings are spread out is left as it is.
+bool markMaxRangeCode(LaserLog& log);
 
 }  // namespace glassmap

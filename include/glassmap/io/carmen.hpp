@@ -20,6 +20,8 @@ struct CarmenReadOptions {
   int laser_id = 0;                  ///< keep only scans of this laser (1 front, 2 rear, n for RAWLASERn); 0 keeps all
   double flaser_max_range = 0.0;     ///< max range of FLASER/RLASER scans [m]; 0: PARAM robot_front_laser_max /
                                      ///< robot_rear_laser_max when the log has it, else 80 (CARMEN's own guess)
+  bool detect_max_range_code = true;  ///< readCarmenLog finds the scanner's "no return" value in the data
+                                      ///< and treats it as max range (markMaxRangeCode)
   bool require_scans = true;         ///< readCarmenLog throws Error when the log holds no scan (empty file included)
   std::size_t max_memory_bytes = 0;  ///< readCarmenLog throws Error, while reading, once the log in memory
                                      ///< passes this (see memoryBytes) [bytes]; 0: no limit
