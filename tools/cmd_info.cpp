@@ -45,6 +45,8 @@ void run(const InfoArgs& args) {
     j["longest_return_m"] = s.longest_return;
     j["max_readings"] = s.max_readings;
     j["no_return_ranges"] = s.stats.no_return_ranges;
+    if (s.stats.max_range_code > 0)
+      j["max_range_code"] = {{"value_m", s.stats.max_range_code}, {"readings", s.stats.max_range_code_readings}};
     j["backward_timestamps"] = s.stats.backward_timestamps;
     j["repeated_timestamps"] = s.stats.repeated_timestamps;
     j["time_first_s"] = s.t_first;
@@ -117,6 +119,12 @@ void run(const InfoArgs& args) {
   }
   row("skipped lines", skipped);
   row("no-return ranges", std::to_string(s.stats.no_return_ranges) + " (non-finite, negative or > 1e6 m)");
+  if (s.stats.max_range_code > 0) {
+    char code[160];
+    std::snprintf(code, sizeof code, "%.3f m, %zu readings (read as max range: no return)", s.stats.max_range_code,
+                  s.stats.max_range_code_readings);
+    row("no-return code", code);
+  }
   if (s.stats.backward_timestamps || s.stats.repeated_timestamps)
     row("scan timestamps", std::to_string(s.stats.backward_timestamps) + " going backwards, " +
                                std::to_string(s.stats.repeated_timestamps) + " repeated");

@@ -3,44 +3,86 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 namespace glassmap {
+namespace {
+constexpr double kSlack = 0.005;        // readings within this of the code share it [m]
+constexpr std::size_t kMinBeams = 8;    // ... at this many beam indices at least
+constexpr std::size_t kBeamSlots = 8192;  // beam indices told apart (more wrap around)
+}  // namespace
+
+void MaxRangeCodeFinder::mark(Laser& l, std::size_t beam) {
+  if (l.distinct_beams >= kMinBeams) return;
+  if (l.beams.empty()) l.beams.assign(kBeamSlots, false);
+  const std::size_t slot = beam % kBeamSlots;
+  if (!l.beams[slot]) {
+    l.beams[slot] = true;
+    ++l.distinct_beams;
+  }
+}
+
+void MaxRangeCodeFinder::add(int laser_id, float range, std::size_t beam) {
+  if (!std::isfinite(range) || range <= 0.0f) return;
+  Laser& l = lasers_[laser_id];
+  const double r = range;
+  ++l.readings;
+  if (r > l.top + kSlack) {  // a new top: the readings near the old one no longer count
+    l.below = std::max(l.below, l.top);
+    l.top = r;
+    l.at_top = 1;
+    l.beams.assign(l.beams.size(), false);
+    l.distinct_beams = 0;
+    mark(l, beam);
+  } else if (r >= l.top - kSlack) {
+    ++l.at_top;
+    l.top = std::max(l.top, r);
+    mark(l, beam);
+  } else {
+    l.below = std::max(l.below, r);
+  }
+}
+
+double MaxRangeCodeFinder::longestBelowCode(int laser_id) const {
+  const auto it = lasers_.find(laser_id);
+  return it == lasers_.end() ? 0.0 : it->second.below;
+}
+
+double MaxRangeCodeFinder::code(int laser_id, std::size_t* readings) const {
+  const auto it = lasers_.find(laser_id);
+  if (it == lasers_.end()) return 0.0;
+  const Laser& l = it->second;
+  // A far corner a standing robot sees again and again is one or two beams; a code is everywhere.
+  const bool spike = l.top >= 1.0 && l.at_top >= 5 && l.distinct_beams >= kMinBeams &&
+                     static_cast<double>(l.at_top) >= 0.001 * static_cast<double>(l.readings);
+  if (!spike) return 0.0;
+  if (readings) *readings = l.at_top;
+  return l.top;
+}
+
+void MaxRangeCodeFinder::record(LogReadStats& stats) const {
+  for (const auto& [id, l] : lasers_) {
+    std::size_t n = 0;
+    const double c = code(id, &n);
+    if (c > stats.max_range_code) {
+      stats.max_range_code = c;
+      stats.max_range_code_readings = n;
+    }
+  }
+}
 
 bool markMaxRangeCode(LaserLog& log) {
-  constexpr double kSlack = 0.005;  // readings within this of the code share it [m]
-  struct Laser {
-    double top = 0.0;
-    std::size_t readings = 0, at_top = 0;
-  };
-  std::map<int, Laser> lasers;
-  for (const LaserScan& s : log.scans) {
-    Laser& l = lasers[s.laser_id];
-    for (const float r : s.ranges) {
-      if (!std::isfinite(r) || r <= 0.0f) continue;
-      ++l.readings;
-      l.top = std::max(l.top, static_cast<double>(r));
-    }
-  }
-  for (const LaserScan& s : log.scans) {
-    Laser& l = lasers[s.laser_id];
-    for (const float r : s.ranges)
-      if (std::isfinite(r) && r > 0.0f && static_cast<double>(r) >= l.top - kSlack) ++l.at_top;
-  }
+  MaxRangeCodeFinder finder;
+  for (const LaserScan& s : log.scans)
+    for (std::size_t i = 0; i < s.ranges.size(); ++i) finder.add(s.laser_id, s.ranges[i], i);
   bool found = false;
-  for (auto& [id, l] : lasers) {
-    const bool spike = l.top >= 1.0 && l.at_top >= 5 && static_cast<double>(l.at_top) >= 0.001 * static_cast<double>(l.readings);
-    if (!spike) continue;
+  for (LaserScan& s : log.scans) {
+    const double c = finder.code(s.laser_id);
+    if (c <= 0.0) continue;
     found = true;
     // A code at or above the header's maximum is a max reading already: nothing to change.
-    for (LaserScan& s : log.scans)
-      if (s.laser_id == id && (s.max_range <= 0.0 || l.top < s.max_range)) s.max_range = l.top - kSlack;
-    // The largest code when several lasers have one (info shows one figure).
-    if (l.top > log.stats.max_range_code) {
-      log.stats.max_range_code = l.top;
-      log.stats.max_range_code_readings = l.at_top;
-    }
+    if (s.max_range <= 0.0 || c < s.max_range) s.max_range = c - kSlack;
   }
+  finder.record(log.stats);
   return found;
 }
 

@@ -21,6 +21,7 @@ LogSummary summarizeCarmenLog(const std::filesystem::path& path, const CarmenRea
   std::optional<Pose2> last_laser_pose, last_odom;
   std::optional<double> last_scan_time;
 
+  MaxRangeCodeFinder codes;  // the scanner's no-return value, as readCarmenLog finds it
   CarmenCallbacks cb;
   cb.on_scan = [&](LaserScan&& scan) {
     const std::size_t n = scan.ranges.size();
@@ -41,6 +42,7 @@ LogSummary summarizeCarmenLog(const std::filesystem::path& path, const CarmenRea
     s.step_max = std::max(s.step_max, scan.angular_step);
     s.max_range_min = std::min(s.max_range_min, scan.max_range);
     s.max_range_max = std::max(s.max_range_max, scan.max_range);
+    for (std::size_t i = 0; i < n; ++i) codes.add(scan.laser_id, scan.ranges[i], i);
     for (float r : scan.ranges) {
       if (!std::isfinite(r)) continue;
       if (r >= scan.max_range)
@@ -67,6 +69,17 @@ LogSummary summarizeCarmenLog(const std::filesystem::path& path, const CarmenRea
   };
   cb.on_true_pose = [&](const StampedPose& p) { stamp(p.timestamp); };
   s.stats = forEachCarmenRecord(path, cb, options);
+  codes.record(s.stats);
+  // Coded readings below the header's maximum were counted as returns above: count them as the
+  // max readings readCarmenLog makes of them.
+  for (const auto& [id, n] : s.scans_per_laser) {
+    std::size_t coded = 0;
+    const double code = codes.code(id, &coded);
+    if (code > 0.0 && code < s.max_range_min) {
+      s.max_readings += coded;
+      if (s.longest_return >= code - 0.005) s.longest_return = codes.longestBelowCode(id);
+    }
+  }
   return s;
 }
 

@@ -2,6 +2,7 @@
 // "no return" value; spread-out top readings are not.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "glassmap/core/laser_scan.hpp"
@@ -9,7 +10,8 @@
 namespace glassmap {
 namespace {
 
-// 100 scans of 180 readings uniform in [0.5, 20] m, `coded` of them per scan replaced by `code`.
+// 100 scans of 180 readings uniform in [0.5, 20] m, `coded` of them per scan (beams 0.. in the
+// first scan, shifted by 37 beams from scan to scan) replaced by `code`.
 LaserLog logWithCode(float code, int coded, double header_max, int laser_id = 1) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> range(0.5f, 20.0f);
@@ -18,7 +20,7 @@ LaserLog logWithCode(float code, int coded, double header_max, int laser_id = 1)
     LaserScan s;
     s.laser_id = laser_id;
     s.max_range = header_max;
-    for (int i = 0; i < 180; ++i) s.ranges.push_back(i < coded ? code : range(rng));
+    for (int i = 0; i < 180; ++i) s.ranges.push_back((i + 37 * k) % 180 < coded ? code : range(rng));
     log.scans.push_back(s);
   }
   return log;
@@ -55,6 +57,34 @@ TEST(MaxRangeCode, RareOrSpreadTopReadingsAreNoCode) {
   LaserLog plain = logWithCode(0.0f, 0, 80.0);
   EXPECT_FALSE(markMaxRangeCode(plain));
   for (const LaserScan& s : plain.scans) EXPECT_DOUBLE_EQ(s.max_range, 80.0);
+}
+
+TEST(MaxRangeCode, AFarCornerReadAgainAndAgainIsNoCode) {
+  // A standing robot reads the same far corner (22.4 m) on beams 90 and 91 of every scan: 1.1%
+  // of the readings, but at two beam indices only.
+  LaserLog log = logWithCode(0.0f, 0, 80.0);
+  for (LaserScan& s : log.scans) s.ranges[90] = s.ranges[91] = 22.4f;
+  EXPECT_FALSE(markMaxRangeCode(log));
+  EXPECT_TRUE(log.scans[0].isReturn(90));
+}
+
+TEST(MaxRangeCode, StreamingFinderAgreesAndKnowsTheLongestReturnBelow) {
+  const LaserLog log = logWithCode(50.0f, 2, 80.0);
+  MaxRangeCodeFinder finder;
+  double longest = 0.0;
+  for (const LaserScan& s : log.scans)
+    for (std::size_t i = 0; i < s.ranges.size(); ++i) {
+      finder.add(s.laser_id, s.ranges[i], i);
+      if (s.ranges[i] < 49.0f) longest = std::max(longest, static_cast<double>(s.ranges[i]));
+    }
+  std::size_t n = 0;
+  EXPECT_DOUBLE_EQ(finder.code(1, &n), 50.0);
+  EXPECT_EQ(n, 200u);
+  EXPECT_DOUBLE_EQ(finder.longestBelowCode(1), longest);
+  EXPECT_EQ(finder.code(2), 0.0);  // a laser never seen
+  LogReadStats stats;
+  finder.record(stats);
+  EXPECT_DOUBLE_EQ(stats.max_range_code, 50.0);
 }
 
 TEST(MaxRangeCode, EachLaserHasItsOwn) {

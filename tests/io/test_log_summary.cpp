@@ -1,11 +1,38 @@
 #include <gtest/gtest.h>
 
 #include "glassmap/core/angles.hpp"
+#include "glassmap/io/carmen.hpp"
 #include "glassmap/io/log_summary.hpp"
 #include "io_test_util.hpp"
 
 namespace glassmap {
 namespace {
+
+TEST(IoLogSummary, NoReturnCodeBelowTheGuessedMaximum) {
+  // FLASER lines carry no maximum (80 m guessed); this scanner reports no return as 50 m, on
+  // 20 beams of each scan (shifting from scan to scan). The summary and readCarmenLog agree.
+  test::TempDir dir;
+  std::string text;
+  for (int k = 0; k < 10; ++k) {
+    text += "FLASER 181";
+    for (int i = 0; i < 181; ++i) text += (i + 13 * k) % 181 < 20 ? " 50.00" : " " + std::to_string(1.0 + 0.01 * i);
+    text += " 0 0 0 0 0 0 " + std::to_string(k) + " h 0\n";
+  }
+  const auto p = dir.write("code.clf", text);
+  const LogSummary s = summarizeCarmenLog(p);
+  EXPECT_DOUBLE_EQ(s.stats.max_range_code, 50.0);
+  EXPECT_EQ(s.stats.max_range_code_readings, 200u);
+  EXPECT_EQ(s.max_readings, 200u);
+  EXPECT_NEAR(s.longest_return, 2.8, 1e-5);
+  const LaserLog log = readCarmenLog(p);
+  EXPECT_DOUBLE_EQ(log.stats.max_range_code, 50.0);
+  EXPECT_NEAR(log.scans[0].max_range, 49.995, 1e-9);
+  EXPECT_FALSE(log.scans[0].isReturn(0));
+  EXPECT_TRUE(log.scans[0].isReturn(100));
+  CarmenReadOptions keep;
+  keep.detect_max_range_code = false;
+  EXPECT_TRUE(readCarmenLog(p, keep).scans[0].isReturn(0));
+}
 
 TEST(IoLogSummary, SyntheticFigures) {
   test::TempDir dir;

@@ -88,10 +88,34 @@ struct LaserLog {
 /// 81.91 m, or the 50 m a driver was configured with) while the log's header says another maximum
 /// (CARMEN's FLASER lines carry none; readers guess 80 m). In the data that value is a spike at the
 /// very top of the readings. When the largest finite reading of a laser (by laser_id) is shared,
-/// within 5 mm, by at least 0.1% of its readings (and 5 readings), it is taken as the max-range
+/// within 5 mm, by at least 0.1% of its readings (and 5 readings, at 8 beam indices or more: a
+/// far corner that a standing robot reads again and again is not a code), it is the max-range
 /// code and stats records it; when it lies below a scan's max_range (or that is unset), the scan
 /// gets max_range = code - 5 mm, so those readings count as max readings (isReturn false). Returns whether a
 /// code was found. A log whose top readings are spread out is left as it is.
 bool markMaxRangeCode(LaserLog& log);
+
+/// The counting behind markMaxRangeCode in one streaming pass (for readers that keep no scans):
+/// add every reading, then ask for the code.
+class MaxRangeCodeFinder {
+ public:
+  void add(int laser_id, float range, std::size_t beam);
+  /// The code of `laser_id` (0 when its top readings are no spike) and its readings.
+  double code(int laser_id, std::size_t* readings = nullptr) const;
+  /// The longest reading of `laser_id` below its top readings [m].
+  double longestBelowCode(int laser_id) const;
+  /// The largest code over all lasers into stats (max_range_code, max_range_code_readings).
+  void record(LogReadStats& stats) const;
+
+ private:
+  struct Laser {
+    double top = 0.0, below = 0.0;
+    std::size_t readings = 0, at_top = 0;
+    std::vector<bool> beams;  // beam indices the top value was read at (up to 8 counted)
+    std::size_t distinct_beams = 0;
+  };
+  static void mark(Laser& l, std::size_t beam);
+  std::map<int, Laser> lasers_;
+};
 
 }  // namespace glassmap
