@@ -3,8 +3,8 @@
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/io/floorplan.hpp"
+#include "glassmap/pipeline/reports.hpp"
 
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -76,14 +76,7 @@ void addLayersOption(CLI::App& cmd, std::string& layers) {
                  "match wins); unknown layers are read as wall and named on stderr");
 }
 
-void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j) {
-  writeAtomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    out.close();  // a failed write shows only once the buffer is flushed
-    if (!out) throw Error("cannot write", path.string());
-  });
-}
+void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j) { pipeline::writeJsonFile(path, j); }
 
 Pose2 parsePose(const std::string& text, const std::string& field) {
   std::stringstream ss(text);
@@ -96,36 +89,7 @@ Pose2 parsePose(const std::string& text, const std::string& field) {
 
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) == 1; }
 
-std::size_t peakMemoryBytes() {
-  rusage usage{};
-  ::getrusage(RUSAGE_SELF, &usage);
-  return static_cast<std::size_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
-}
-
-nlohmann::json profileJson(const SensorProfile& p) {
-  nlohmann::json j = {{"source", p.source},
-                      {"wall_beams", p.wall_beams},
-                      {"glass_beams", p.glass_beams},
-                      {"fitted", nlohmann::json::array()}};
-  const std::pair<const char*, const Estimate*> fields[] = {{"range_sigma_m", &p.range_sigma_m},
-                                                            {"w_hit", &p.w_hit},
-                                                            {"w_short", &p.w_short},
-                                                            {"w_max", &p.w_max},
-                                                            {"w_rand", &p.w_rand},
-                                                            {"lambda_short", &p.lambda_short},
-                                                            {"direct_peak", &p.direct_peak},
-                                                            {"direct_sigma_deg", &p.direct_sigma_deg},
-                                                            {"direct_floor", &p.direct_floor},
-                                                            {"normal_lambda_per_deg", &p.normal_lambda_per_deg},
-                                                            {"normal_floor", &p.normal_floor},
-                                                            {"glass_offset_m", &p.glass_offset_m}};
-  for (const auto& [key, e] : fields) {
-    j[key] = e->value;
-    j[std::string(key) + "_se"] = e->se;
-    if (e->fitted) j["fitted"].push_back(key);
-  }
-  return j;
-}
+std::size_t peakMemoryBytes() { return pipeline::peakMemoryBytes(); }
 
 std::string profileSummary(const SensorProfile& p) {
   char buf[256];

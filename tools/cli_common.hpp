@@ -29,7 +29,8 @@ void registerAll(CLI::App& app);
 /// Lets several cmd_*.cpp files add sub-verbs to one verb (eval cells, eval traj, ...).
 CLI::App& verb(CLI::App& app, const std::string& name, const std::string& description);
 
-/// Writes `j` (indented, newline-terminated) to `path` atomically; throws Error on failure.
+/// Writes `j` (indented, newline-terminated) to `path` atomically; throws Error on failure
+/// (pipeline::writeJsonFile).
 void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j);
 
 /// Reads a floorplan with `units` ("" = the file's own; else a parseLengthUnit name or number) and
@@ -50,9 +51,6 @@ void addLayersOption(CLI::App& cmd, std::string& layers);
 /// Parses "x,y,theta" [m, m, rad]; throws Error naming `field` otherwise.
 Pose2 parsePose(const std::string& text, const std::string& field);
 
-/// The profile as JSON: {"range_sigma_m": v, "range_sigma_m_se": se, ..., "fitted": [...], "source": ...}.
-nlohmann::json profileJson(const SensorProfile& p);
-
 /// One line for a summary: "range sigma 0.012 m, glass lobe peak 0.90 sigma 2.1 deg floor 0.000, ...".
 std::string profileSummary(const SensorProfile& p);
 
@@ -63,7 +61,7 @@ std::function<void(std::uint64_t, std::uint64_t)> readProgress(bool show);
 /// True when stderr is a terminal (progress is shown only then).
 bool stderrIsTerminal();
 
-/// Peak resident memory of this process [bytes].
+/// Peak resident memory of this process [bytes] (pipeline::peakMemoryBytes).
 std::size_t peakMemoryBytes();
 
 }  // namespace glassmap::cli

@@ -10,11 +10,10 @@
 #include "glassmap/io/carmen.hpp"
 #include "glassmap/io/sensor_profile.hpp"
 #include "glassmap/pipeline/map_log.hpp"
+#include "glassmap/pipeline/reports.hpp"
 
 namespace glassmap {
 namespace {
-
-namespace fs = std::filesystem;
 
 struct CalibrateArgs {
   std::string log, map, units, layers, out, json, chart;
@@ -22,20 +21,6 @@ struct CalibrateArgs {
   bool quiet = false;
   pipeline::MapOptions options;
 };
-
-nlohmann::json binsJson(const std::vector<GlassAngleBin>& bins) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const GlassAngleBin& b : bins) {
-    if (b.beams == 0 && b.mirror_beams == 0) continue;
-    out.push_back({{"theta_lo_deg", b.theta_lo},
-                   {"theta_hi_deg", b.theta_hi},
-                   {"beams", b.beams},
-                   {"direct", b.direct},
-                   {"mirror_beams", b.mirror_beams},
-                   {"reflected", b.reflected}});
-  }
-  return out;
-}
 
 void run(CalibrateArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -62,30 +47,12 @@ void run(CalibrateArgs& a) {
   const pipeline::CalibrateLogResult r =
       pipeline::calibrateLog(log, a.map.empty() ? nullptr : &plan, a.options, progress);
   SensorProfile profile = r.fit.profile;
-  profile.source = "calibrated from " + fs::path(a.log).filename().string() +
-                   (a.map.empty() ? " against its own map" : " against " + fs::path(a.map).filename().string());
+  profile.source = pipeline::calibrationSource(a.log, a.map);
   writeSensorProfile(a.out, profile);
   if (!a.chart.empty()) renderCalibrationChart(a.chart, profile, r.fit.bins);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!a.json.empty()) {
-    nlohmann::json j = cli::profileJson(profile);
-    j["log"] = a.log;
-    j["floorplan"] = a.map.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.map);
-    j["own_floorplan"] = r.own_floorplan;
-    j["floorplan_walls"] = r.floorplan_walls;
-    j["floorplan_panes"] = r.floorplan_panes;
-    j["rounds"] = r.rounds;
-    j["scans_used"] = r.fit.scans;
-    j["aligned_scans"] = r.fit.aligned_scans;
-    j["median_alignment_m"] = r.fit.median_alignment_m;
-    j["median_alignment_deg"] = r.fit.median_alignment_deg;
-    j["refracted_beams"] = r.fit.refracted_beams;
-    j["range_sigma_walls_m"] = r.fit.range_sigma_em_m;
-    j["range_sigma_in_scan_m"] = r.fit.range_sigma_local_m;
-    j["angle_bins"] = binsJson(r.fit.bins);
-    j["warnings"] = r.fit.warnings;
-    j["seconds"] = seconds;
-    cli::writeJsonFile(a.json, j);
+    cli::writeJsonFile(a.json, pipeline::calibrationJson(profile, r, a.log, a.map, seconds));
   }
   for (const std::string& w : r.fit.warnings) std::cerr << "warning: " << w << "\n";
   if (!a.quiet) {

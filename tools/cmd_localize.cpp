@@ -12,7 +12,9 @@
 #include "glassmap/io/floorplan.hpp"
 #include "glassmap/io/sensor_profile.hpp"
 #include "glassmap/io/tum.hpp"
+#include "glassmap/pipeline/localize_checks.hpp"
 #include "glassmap/pipeline/localize_log.hpp"
+#include "glassmap/pipeline/reports.hpp"
 
 namespace glassmap {
 namespace {
@@ -42,10 +44,9 @@ struct LocalizeArgs {
 void run(const LocalizeArgs& a) {
   std::string scale_warning;
   const VectorMap map = cli::readPlan(a.map, a.units, a.layers, a.quiet, &scale_warning);
-  if (map.segments.empty()) throw Error("the map has no segments", a.map);
   // Localizing against a plan of the wrong scale gives a confident wrong answer: without an
   // explicit --units, refuse; with one, only warn.
-  if (!scale_warning.empty() && a.units.empty()) throw Error("refusing to localize: " + scale_warning);
+  pipeline::checkLocalizationPlan(map, a.map, scale_warning, !a.units.empty());
   if (!scale_warning.empty() && !a.quiet) std::cerr << "glassmap: warning: " << scale_warning << "\n";
   CarmenReadOptions read;
   read.progress = cli::readProgress(!a.quiet && cli::stderrIsTerminal());
@@ -73,18 +74,7 @@ void run(const LocalizeArgs& a) {
   if (!a.init.empty()) {
     opt.init = cli::parsePose(a.init, "init");
     // A start outside the plan is a wrong frame or wrong units, never a run to trust.
-    Eigen::AlignedBox2d box = map.bounds();
-    const double slack = 0.5 + 0.05 * (box.max() - box.min()).maxCoeff();
-    box.extend(box.min() - Vec2::Constant(slack));
-    box.extend(box.max() + Vec2::Constant(slack));
-    if (!box.contains(opt.init->t)) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf, "(%.2f, %.2f) lies outside the map's extent x %.2f .. %.2f, y %.2f .. %.2f m",
-                    opt.init->x(), opt.init->y(), box.min().x() + slack, box.max().x() - slack, box.min().y() + slack,
-                    box.max().y() - slack);
-      throw Error(std::string("the initial pose ") + buf + ": wrong units (see --units) or another frame?", a.map, 0,
-                  "init");
-    }
+    pipeline::checkInitialPose(map, *opt.init, a.map);
   }
   if (!a.laser_offset.empty()) opt.T_base_laser = cli::parsePose(a.laser_offset, "laser-offset");
   if (!a.quiet && cli::stderrIsTerminal())
@@ -100,23 +90,7 @@ void run(const LocalizeArgs& a) {
     localize::writeSpreadCsv(spread_path, r);
   }
 
-  const nlohmann::json summary = {
-      {"model", result.model},
-      {"glass_as", a.glass_as},
-      {"scans", r.scans},
-      {"updates", r.updates},
-      {"resamplings", r.resamplings},
-      {"injected_particles", r.injected},
-      {"relocalizations", r.relocalizations},
-      {"converged", r.converged},
-      {"converged_at_s", r.converged ? nlohmann::json(r.converged_at) : nlohmann::json(nullptr)},
-      {"mean_particles", r.mean_particles},
-      {"beams", a.beams},
-      {"seconds", r.seconds},
-      {"ms_per_update", 1e3 * r.seconds_per_update},
-      {"log_seconds", r.log_duration},
-      {"real_time_factor", r.realTimeFactor()},
-      {"seed", a.seed}};
+  const nlohmann::json summary = pipeline::localizeSummaryJson(result, options);
   if (!a.json.empty()) cli::writeJsonFile(a.json, summary);
   if (!a.quiet) {
     std::printf("%-18s %12s\n", "model", result.model.c_str());

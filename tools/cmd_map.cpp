@@ -12,6 +12,7 @@
 #include "glassmap/io/sensor_profile.hpp"
 #include "glassmap/pipeline/map_files.hpp"
 #include "glassmap/pipeline/map_log.hpp"
+#include "glassmap/pipeline/reports.hpp"
 
 namespace glassmap {
 namespace {
@@ -31,52 +32,6 @@ struct MapArgs {
   std::string sensor;
   pipeline::MapOptions options;
 };
-
-nlohmann::json optionsJson(const MapArgs& a) {
-  const auto& o = a.options.mapping;
-  const auto& d = o.direct;
-  const auto& h = o.heuristic;
-  return {{"method", a.method},
-          {"resolution", o.resolution},
-          {"angle_bin_deg", o.angle_bin_deg},
-          {"range_cap", o.beams.range_cap},
-          {"min_range", o.beams.min_range},
-          {"clear_no_return", o.beams.clear_no_return},
-          {"no_return_range", o.beams.no_return_range},
-          {"miss_margin", o.beams.miss_margin},
-          {"direct",
-           {{"sigmoid_margin", d.sigmoid_margin},
-            {"direct_sigma_deg", d.direct_sigma_deg},
-            {"direct_peak", d.direct_peak},
-            {"lobe_floor", d.lobe_floor},
-            {"direct_floor", d.direct_floor},
-            {"p_hit_occ", d.p_hit_occ},
-            {"p_hit_emp", d.p_hit_emp},
-            {"occ_hit_floor", d.occ_hit_floor},
-            {"prior_glass", d.prior_glass},
-            {"prior_occupied", d.prior_occupied},
-            {"min_glass_hits", d.min_glass_hits},
-            {"search_cells", d.search_cells}}},
-          {"profile_lobe", a.options.profile_lobe},
-          {"prune_unfitted_glass", a.options.prune_unfitted_glass},
-          {"phantoms",
-           {{"enabled", a.options.phantoms},
-            {"glass_margin", a.options.phantom.glass_margin},
-            {"block_margin", a.options.phantom.block_margin},
-            {"min_folded_fraction", a.options.phantom.min_folded_fraction}}},
-          {"mrf",
-           {{"solver", mrf::toString(a.options.mrf.solver)},
-            {"psi", mrf::toString(a.options.mrf.psi)},
-            {"unary_weight", a.options.mrf.unary_weight},
-            {"tile", a.options.mrf.tile},
-            {"sweeps", a.options.mrf.sweeps}}},
-          {"heuristic",
-           {{"min_hits", h.min_hits},
-            {"min_window_hit_ratio", h.min_window_hit_ratio},
-            {"min_other_misses", h.min_other_misses},
-            {"max_other_hit_ratio", h.max_other_hit_ratio},
-            {"occupied_hit_ratio", h.occupied_hit_ratio}}}};
-}
 
 void run(MapArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -106,7 +61,7 @@ void run(MapArgs& args) {
   options.mrf.psi = mrf::parsePsi(args.mrf_psi);
   // The grid gets what the log leaves of the budget.
   const std::size_t budget = static_cast<std::size_t>(args.max_memory_mb * 1e6);
-  options.mapping.max_memory_bytes = budget > log.memoryBytes() ? budget - log.memoryBytes() : 1;
+  options.mapping.max_memory_bytes = pipeline::gridMemoryBudget(budget, log);
   options.fit_floorplan = args.vectorize;
   if (!args.sensor.empty()) options.sensor = readSensorProfile(args.sensor);
   const bool use_mrf = options.method == pipeline::MapMethod::Mrf;
@@ -129,52 +84,13 @@ void run(MapArgs& args) {
   const fs::path dir(args.out);
   const std::vector<fs::path> files = pipeline::writeMapFiles(dir, result, args.vectorize);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const std::size_t peak = cli::peakMemoryBytes();
+  const std::size_t peak = pipeline::peakMemoryBytes();
 
   const auto& st = result.stats;
-  nlohmann::json j = {{"log", args.log},
-                      {"scans", st.scans},
-                      {"beams", st.beams},
-                      {"hit_beams", st.hit_beams},
-                      {"cells_traversed", st.cells_traversed},
-                      {"grid",
-                       {{"width", e.geometry.width},
-                        {"height", e.geometry.height},
-                        {"resolution", e.geometry.resolution},
-                        {"origin", {e.geometry.origin.x(), e.geometry.origin.y()}}}},
-                      {"observed_cells", st.observed_cells},
-                      {"candidate_cells", st.candidate_cells},
-                      {"glass_cells", st.glass_cells},
-                      {"occupied_cells", st.occupied_cells},
-                      {"state_bytes", st.state_bytes},
-                      {"bytes_per_observed_cell", st.bytes_per_observed_cell},
-                      {"seconds",
-                       {{"read", seconds_read},
-                        {"counts", st.seconds_counts},
-                        {"angles", st.seconds_angles},
-                        {"classify", st.seconds_classify},
-                        {"mrf", refined.seconds},
-                        {"phantoms", result.seconds.phantoms},
-                        {"vectorize", floorplan.stats.seconds},
-                        {"calibration", result.seconds.calibration},
-                        {"total", seconds}}},
-                      {"sensor", cli::profileJson(result.profile)},
-                      {"calibrated", result.calibrated},
-                      {"calibration_warnings", result.calibration.warnings},
-                      {"mrf_changed_cells", refined.changed},
-                      {"mrf_energy", {{"before", refined.energy_before}, {"after", refined.energy_after}}},
-                      {"mirror_phantoms",
-                       {{"beams_through_glass", phantom.beams_through_glass},
-                        {"folded_beams", phantom.folded_beams},
-                        {"cells_cleared", phantom.cells_cleared}}},
-                      {"glass_cells_off_segments", result.pruned_glass},
-                      {"glass_segments", floorplan.map.count(Material::Glass)},
-                      {"wall_segments", floorplan.map.count(Material::Wall)},
-                      {"peak_memory_bytes", peak},
-                      {"options", optionsJson(args)}};
-  for (const fs::path& f : files) j["files"].push_back(f.filename().string());
+  pipeline::MapRunInfo info{args.log, seconds_read, seconds, peak, {}};
+  for (const fs::path& f : files) info.files.push_back(f.filename().string());
   // Written last: a folder with a stats.json holds the complete set it lists.
-  cli::writeJsonFile(dir / pipeline::kMapManifest, j);
+  cli::writeJsonFile(dir / pipeline::kMapManifest, pipeline::mapStatsJson(result, options, info));
 
   if (!args.quiet) {
     std::printf("%-22s %s\n", "method", args.method.c_str());

@@ -1,0 +1,268 @@
+#include "glassmap/pipeline/reports.hpp"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <utility>
+
+#include "glassmap/core/atomic_file.hpp"
+#include "glassmap/core/error.hpp"
+
+namespace glassmap::pipeline {
+namespace {
+
+// The profile's fitted numbers in the order profileJson lists them.
+std::vector<std::pair<const char*, Estimate SensorProfile::*>> profileFields() {
+  return {{"range_sigma_m", &SensorProfile::range_sigma_m},
+          {"w_hit", &SensorProfile::w_hit},
+          {"w_short", &SensorProfile::w_short},
+          {"w_max", &SensorProfile::w_max},
+          {"w_rand", &SensorProfile::w_rand},
+          {"lambda_short", &SensorProfile::lambda_short},
+          {"direct_peak", &SensorProfile::direct_peak},
+          {"direct_sigma_deg", &SensorProfile::direct_sigma_deg},
+          {"direct_floor", &SensorProfile::direct_floor},
+          {"normal_lambda_per_deg", &SensorProfile::normal_lambda_per_deg},
+          {"normal_floor", &SensorProfile::normal_floor},
+          {"glass_offset_m", &SensorProfile::glass_offset_m}};
+}
+
+nlohmann::json binsJson(const std::vector<GlassAngleBin>& bins) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const GlassAngleBin& b : bins) {
+    if (b.beams == 0 && b.mirror_beams == 0) continue;
+    out.push_back({{"theta_lo_deg", b.theta_lo},
+                   {"theta_hi_deg", b.theta_hi},
+                   {"beams", b.beams},
+                   {"direct", b.direct},
+                   {"mirror_beams", b.mirror_beams},
+                   {"reflected", b.reflected}});
+  }
+  return out;
+}
+
+}  // namespace
+
+void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j) {
+  writeAtomically(path, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    out.close();  // a failed write shows only once the buffer is flushed
+    if (!out) throw Error("cannot write", path.string());
+  });
+}
+
+nlohmann::json profileJson(const SensorProfile& p) {
+  nlohmann::json j = {{"source", p.source},
+                      {"wall_beams", p.wall_beams},
+                      {"glass_beams", p.glass_beams},
+                      {"fitted", nlohmann::json::array()}};
+  for (const auto& [key, member] : profileFields()) {
+    const Estimate& e = p.*member;
+    j[key] = e.value;
+    j[std::string(key) + "_se"] = e.se;
+    if (e.fitted) j["fitted"].push_back(key);
+  }
+  return j;
+}
+
+SensorProfile profileFromJson(const nlohmann::json& j, const std::vector<std::string>& ignored) {
+  if (!j.is_object()) throw Error("expected a mapping of sensor profile keys", {}, 0, "profile");
+  SensorProfile p;
+  const auto fields = profileFields();
+  auto number = [](const std::string& key, const nlohmann::json& v) {
+    if (!v.is_number()) throw Error("expected a number, got " + v.dump(), {}, 0, key);
+    return v.get<double>();
+  };
+  auto count = [](const std::string& key, const nlohmann::json& v) {
+    if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<long long>() >= 0))
+      throw Error("expected a count, got " + v.dump(), {}, 0, key);
+    return v.get<std::size_t>();
+  };
+  for (const auto& [key, v] : j.items()) {
+    const auto field = std::find_if(fields.begin(), fields.end(), [&](const auto& f) {
+      return key == f.first || key == std::string(f.first) + "_se";
+    });
+    if (field != fields.end()) {
+      Estimate& e = p.*(field->second);
+      (key == field->first ? e.value : e.se) = number(key, v);
+    } else if (key == "source") {
+      if (!v.is_string()) throw Error("expected text, got " + v.dump(), {}, 0, key);
+      p.source = v.get<std::string>();
+    } else if (key == "wall_beams") {
+      p.wall_beams = count(key, v);
+    } else if (key == "glass_beams") {
+      p.glass_beams = count(key, v);
+    } else if (key == "fitted") {
+      if (!v.is_array()) throw Error("expected a list of keys, got " + v.dump(), {}, 0, key);
+      for (const nlohmann::json& name : v) {
+        const auto f = std::find_if(fields.begin(), fields.end(), [&](const auto& x) {
+          return name.is_string() && name.get<std::string>() == x.first;
+        });
+        if (f == fields.end()) throw Error("not a fitted profile key: " + name.dump(), {}, 0, key);
+        (p.*(f->second)).fitted = true;
+      }
+    } else if (std::find(ignored.begin(), ignored.end(), key) == ignored.end()) {
+      throw Error("not a sensor profile key", {}, 0, key);
+    }
+  }
+  return p;
+}
+
+nlohmann::json mapOptionsJson(const MapOptions& options) {
+  const auto& o = options.mapping;
+  const auto& d = o.direct;
+  const auto& h = o.heuristic;
+  return {{"method", toString(options.method)},
+          {"resolution", o.resolution},
+          {"angle_bin_deg", o.angle_bin_deg},
+          {"range_cap", o.beams.range_cap},
+          {"min_range", o.beams.min_range},
+          {"clear_no_return", o.beams.clear_no_return},
+          {"no_return_range", o.beams.no_return_range},
+          {"miss_margin", o.beams.miss_margin},
+          {"direct",
+           {{"sigmoid_margin", d.sigmoid_margin},
+            {"direct_sigma_deg", d.direct_sigma_deg},
+            {"direct_peak", d.direct_peak},
+            {"lobe_floor", d.lobe_floor},
+            {"direct_floor", d.direct_floor},
+            {"p_hit_occ", d.p_hit_occ},
+            {"p_hit_emp", d.p_hit_emp},
+            {"occ_hit_floor", d.occ_hit_floor},
+            {"prior_glass", d.prior_glass},
+            {"prior_occupied", d.prior_occupied},
+            {"min_glass_hits", d.min_glass_hits},
+            {"search_cells", d.search_cells}}},
+          {"profile_lobe", options.profile_lobe},
+          {"prune_unfitted_glass", options.prune_unfitted_glass},
+          {"phantoms",
+           {{"enabled", options.phantoms},
+            {"glass_margin", options.phantom.glass_margin},
+            {"block_margin", options.phantom.block_margin},
+            {"min_folded_fraction", options.phantom.min_folded_fraction}}},
+          {"mrf",
+           {{"solver", mrf::toString(options.mrf.solver)},
+            {"psi", mrf::toString(options.mrf.psi)},
+            {"unary_weight", options.mrf.unary_weight},
+            {"tile", options.mrf.tile},
+            {"sweeps", options.mrf.sweeps}}},
+          {"heuristic",
+           {{"min_hits", h.min_hits},
+            {"min_window_hit_ratio", h.min_window_hit_ratio},
+            {"min_other_misses", h.min_other_misses},
+            {"max_other_hit_ratio", h.max_other_hit_ratio},
+            {"occupied_hit_ratio", h.occupied_hit_ratio}}}};
+}
+
+nlohmann::json mapStatsJson(const MapResult& result, const MapOptions& options, const MapRunInfo& run) {
+  const glass::CellEvidence& e = result.evidence;
+  const vector::VectorizeResult& floorplan = result.floorplan;
+  const mrf::RefineResult& refined = result.mrf;
+  const glass::PhantomStats& phantom = result.phantoms;
+  const auto& st = result.stats;
+  nlohmann::json j = {{"log", run.log},
+                      {"scans", st.scans},
+                      {"beams", st.beams},
+                      {"hit_beams", st.hit_beams},
+                      {"cells_traversed", st.cells_traversed},
+                      {"grid",
+                       {{"width", e.geometry.width},
+                        {"height", e.geometry.height},
+                        {"resolution", e.geometry.resolution},
+                        {"origin", {e.geometry.origin.x(), e.geometry.origin.y()}}}},
+                      {"observed_cells", st.observed_cells},
+                      {"candidate_cells", st.candidate_cells},
+                      {"glass_cells", st.glass_cells},
+                      {"occupied_cells", st.occupied_cells},
+                      {"state_bytes", st.state_bytes},
+                      {"bytes_per_observed_cell", st.bytes_per_observed_cell},
+                      {"seconds",
+                       {{"read", run.seconds_read},
+                        {"counts", st.seconds_counts},
+                        {"angles", st.seconds_angles},
+                        {"classify", st.seconds_classify},
+                        {"mrf", refined.seconds},
+                        {"phantoms", result.seconds.phantoms},
+                        {"vectorize", floorplan.stats.seconds},
+                        {"calibration", result.seconds.calibration},
+                        {"total", run.seconds_total}}},
+                      {"sensor", profileJson(result.profile)},
+                      {"calibrated", result.calibrated},
+                      {"calibration_warnings", result.calibration.warnings},
+                      {"mrf_changed_cells", refined.changed},
+                      {"mrf_energy", {{"before", refined.energy_before}, {"after", refined.energy_after}}},
+                      {"mirror_phantoms",
+                       {{"beams_through_glass", phantom.beams_through_glass},
+                        {"folded_beams", phantom.folded_beams},
+                        {"cells_cleared", phantom.cells_cleared}}},
+                      {"glass_cells_off_segments", result.pruned_glass},
+                      {"glass_segments", floorplan.map.count(Material::Glass)},
+                      {"wall_segments", floorplan.map.count(Material::Wall)},
+                      {"peak_memory_bytes", run.peak_memory_bytes},
+                      {"options", mapOptionsJson(options)}};
+  for (const std::string& f : run.files) j["files"].push_back(f);
+  return j;
+}
+
+std::size_t gridMemoryBudget(std::size_t budget_bytes, const LaserLog& log) {
+  return budget_bytes > log.memoryBytes() ? budget_bytes - log.memoryBytes() : 1;
+}
+
+std::size_t peakMemoryBytes() {
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  return static_cast<std::size_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+nlohmann::json localizeSummaryJson(const LocalizeResult& result, const LocalizeOptions& options) {
+  const localize::LocalizeResult& r = result.run;
+  return {{"model", result.model},
+          {"glass_as", sensor::toString(options.sensor.glass_as)},
+          {"scans", r.scans},
+          {"updates", r.updates},
+          {"resamplings", r.resamplings},
+          {"injected_particles", r.injected},
+          {"relocalizations", r.relocalizations},
+          {"converged", r.converged},
+          {"converged_at_s", r.converged ? nlohmann::json(r.converged_at) : nlohmann::json(nullptr)},
+          {"mean_particles", r.mean_particles},
+          {"beams", options.filter.beams},
+          {"seconds", r.seconds},
+          {"ms_per_update", 1e3 * r.seconds_per_update},
+          {"log_seconds", r.log_duration},
+          {"real_time_factor", r.realTimeFactor()},
+          {"seed", options.filter.filter.seed}};
+}
+
+std::string calibrationSource(const std::string& log_path, const std::string& plan_path) {
+  namespace fs = std::filesystem;
+  return "calibrated from " + fs::path(log_path).filename().string() +
+         (plan_path.empty() ? " against its own map" : " against " + fs::path(plan_path).filename().string());
+}
+
+nlohmann::json calibrationJson(const SensorProfile& profile, const CalibrateLogResult& r, const std::string& log_path,
+                               const std::string& plan_path, double seconds) {
+  nlohmann::json j = profileJson(profile);
+  j["log"] = log_path;
+  j["floorplan"] = plan_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(plan_path);
+  j["own_floorplan"] = r.own_floorplan;
+  j["floorplan_walls"] = r.floorplan_walls;
+  j["floorplan_panes"] = r.floorplan_panes;
+  j["rounds"] = r.rounds;
+  j["scans_used"] = r.fit.scans;
+  j["aligned_scans"] = r.fit.aligned_scans;
+  j["median_alignment_m"] = r.fit.median_alignment_m;
+  j["median_alignment_deg"] = r.fit.median_alignment_deg;
+  j["refracted_beams"] = r.fit.refracted_beams;
+  j["range_sigma_walls_m"] = r.fit.range_sigma_em_m;
+  j["range_sigma_in_scan_m"] = r.fit.range_sigma_local_m;
+  j["angle_bins"] = binsJson(r.fit.bins);
+  j["warnings"] = r.fit.warnings;
+  j["seconds"] = seconds;
+  return j;
+}
+
+}  // namespace glassmap::pipeline
