@@ -150,6 +150,25 @@ TEST(Ros2BagStorage, HandBuiltDb3WithoutSchemaTable) {
   EXPECT_NE(errorOf([&] { (void)test::readAll(*ros2::openBag(dir / "cut.db3")); }).find("cut.db3"), std::string::npos);
 }
 
+TEST(Ros2BagStorage, Db3WithWriteAheadLogOfARunningRecording) {
+  TempDir dir;
+  const fs::path path = dir / "live.db3";
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  sql(db,
+      "PRAGMA journal_mode=WAL; PRAGMA wal_autocheckpoint=0;"
+      "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, "
+      "serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);"
+      "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL, "
+      "data BLOB NOT NULL);"
+      "INSERT INTO topics VALUES (1, '/scan', 'sensor_msgs/msg/LaserScan', 'cdr', '');"
+      "INSERT INTO messages (topic_id, timestamp, data) VALUES (1, 20, x'0102'), (1, 10, x'03');");
+  ASSERT_TRUE(fs::exists(path.string() + "-wal"));  // the messages are still only in the log
+  const std::vector<TestMessage> want = {{"/scan", 10, 10, {3}}, {"/scan", 20, 20, {1, 2}}};
+  EXPECT_EQ(test::readAll(*ros2::openBag(path)), want);
+  sqlite3_close(db);
+}
+
 /// metadata.yaml of a directory bag listing `files`.
 std::string metadataYaml(const std::string& storage, const std::vector<std::string>& files,
                          const std::string& compression = "", const std::string& mode = "") {
