@@ -73,6 +73,10 @@ TEST_P(McapRoundTrip, MessagesAndTopicsComeBack) {
                 static_cast<std::uint64_t>(std::count_if(messages.begin(), messages.end(),
                                                          [&](const TestMessage& m) { return m.topic == t.name; })));
     }
+    const auto notes = bag->notes();
+    const std::string mode = summary ? "chunk indexes in log-time order" : "read linearly in file order";
+    EXPECT_TRUE(std::any_of(notes.begin(), notes.end(),
+                            [&](const std::string& n) { return n.find(mode) != std::string::npos; }));
     // Indexed: log-time order across chunks; linear: file (= write) order.
     EXPECT_EQ(test::readAll(*bag), summary ? sortedByTime(messages) : messages);
   }
