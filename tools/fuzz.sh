@@ -5,7 +5,8 @@
 #   tools/fuzz.sh [-n RUNS] [-t MAX_SECONDS] [-j JOBS] [target ...]
 #
 # RUNS defaults to 1000000 executions per target, MAX_SECONDS (a safety bound per target) to 600.
-# Targets: fuzz_carmen fuzz_tum fuzz_rosmap fuzz_floorplan_geojson fuzz_floorplan_dxf (default: all).
+# Targets: fuzz_carmen fuzz_tum fuzz_rosmap fuzz_floorplan_geojson fuzz_floorplan_dxf fuzz_ros2_log
+# (default: all).
 # New coverage-increasing inputs go to build-fuzz/corpus/<target>/ (the committed seeds stay as
 # they are); crashes, leaks, timeouts and out-of-memory inputs to build-fuzz/artifacts/<target>/.
 # Exit status: 0 when every target finished clean, 1 when any found something.
@@ -19,13 +20,13 @@ while getopts "n:t:j:h" opt; do
     n) runs=$OPTARG ;;
     t) max_time=$OPTARG ;;
     j) jobs=$OPTARG ;;
-    *) sed -n '2,13p' "$0"; exit 2 ;;
+    *) sed -n '2,14p' "$0"; exit 2 ;;
   esac
 done
 shift $((OPTIND - 1))
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(fuzz_carmen fuzz_tum fuzz_rosmap fuzz_floorplan_geojson fuzz_floorplan_dxf)
+  targets=(fuzz_carmen fuzz_tum fuzz_rosmap fuzz_floorplan_geojson fuzz_floorplan_dxf fuzz_ros2_log)
 fi
 
 root=$(cd "$(dirname "$0")/.." && pwd)
