@@ -62,6 +62,9 @@ class BagReader {
   virtual BagStorage storage() const = 0;
   /// The files read, in order.
   virtual std::vector<std::filesystem::path> files() const = 0;
+  /// What the reader found or assumed, one line each (MCAP profile and read mode, SQLite schema
+  /// version, compression, a truncation), for `info`-like reports.
+  virtual std::vector<std::string> notes() const { return {}; }
 };
 
 /// True when `path` looks like a bag: a directory holding metadata.yaml, or a file starting with
@@ -75,8 +78,8 @@ std::unique_ptr<BagReader> openBag(const std::filesystem::path& path);
 struct BagWriteOptions {
   BagStorage storage = BagStorage::Mcap;
   BagCompression compression = BagCompression::Zstd;  ///< MCAP only
-  std::uint64_t chunk_size = 1 << 20;                  ///< MCAP chunk size before compression [bytes]
-  bool write_summary = true;                           ///< MCAP: summary section, chunk and message indexes
+  std::uint64_t chunk_size = 1 << 20;                 ///< MCAP chunk size before compression [bytes]
+  bool write_summary = true;                          ///< MCAP: summary section, chunk and message indexes
 };
 
 /// Writes a rosbag2 bag: `path` is the bag directory (created; must not exist or be empty), which
