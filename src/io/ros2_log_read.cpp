@@ -123,6 +123,14 @@ LaserLog readRos2Log(const fs::path& path, const LogReadOptions& options, LogRea
   };
   check(scan_topic);
   if (odom_topic) check(odom_topic);
+  if (!isScanType(scan_topic->type))
+    throw Error("topic " + scan_topic->name + " (--scan-topic) has type " + scan_topic->type +
+                    ", not sensor_msgs/msg/LaserScan or MultiEchoLaserScan",
+                file);
+  if (odom_topic && odom_topic->type != ros2::kOdometryType)
+    throw Error(
+        "topic " + odom_topic->name + " (--odom-topic) has type " + odom_topic->type + ", not nav_msgs/msg/Odometry",
+        file);
   for (const BagTopic* t : tf_topics) check(t);
   const bool multi_echo = scan_topic->type == ros2::kMultiEchoLaserScanType;
 
@@ -306,9 +314,8 @@ LaserLog readRos2Log(const fs::path& path, const LogReadOptions& options, LogRea
   notes.notes.push_back("scans from " + scan_desc + ", frame " + frame_names + ": " + std::to_string(raw.size()) +
                         " messages" + (multi_echo ? " (first echo of each beam)" : ""));
   std::string chain = "laser poses from ";
-  if (use_map) chain += ro.map_frame + " -> " + odom_frame + " (/tf) -> ";
-  chain += odom_from_tf ? odom_frame + " -> " + base + " (/tf)"
-                        : odom_frame + " -> " + base + " (" + odom_topic->name + " odometry messages)";
+  chain += use_map ? ro.map_frame + " -> " + odom_frame + " (/tf)" : odom_frame;
+  chain += " -> " + base + (odom_from_tf ? " (/tf)" : " (" + odom_topic->name + " odometry messages)");
   for (std::size_t f = 0; f < frames.size(); ++f)
     if (!frames[f].empty() && frames[f] != base)
       chain += std::string(f ? "," : "") + " -> " + frames[f] + (laser_connected[f] ? " (tf)" : " (identity)");
