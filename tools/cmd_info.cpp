@@ -44,6 +44,7 @@ nlohmann::json bagJson(const Ros2BagSummary& b) {
         {{"parent", t.parent}, {"child", t.child}, {"static", t.is_static}, {"samples", t.samples}});
   j["scan_frames"] = b.scan_frames;
   j["max_tilt_deg"] = rad2deg(b.max_tilt);
+  j["notes"] = b.notes;
   return j;
 }
 
@@ -65,6 +66,9 @@ void printBag(const Ros2BagSummary& b, const std::string& path) {
   std::string frames;
   for (const auto& f : b.scan_frames) frames += (frames.empty() ? "" : ", ") + f;
   if (!frames.empty()) std::printf("%-20s %s\n", "scan frames", frames.c_str());
+  if (b.max_tilt > 0.0872664626)
+    std::printf("%-20s %.1f deg (projected onto the plane)\n", "largest tilt", rad2deg(b.max_tilt));
+  for (const auto& n : b.notes) std::printf("%-20s %s\n", "note", n.c_str());
 }
 
 std::string range(double lo, double hi, const char* fmt) {
@@ -83,6 +87,7 @@ void run(const InfoArgs& args) {
   if (bag) {
     bag_summary = summarizeRos2Bag(args.log);
     if (!args.json) printBag(*bag_summary, args.log);
+    std::fflush(stdout);  // before readLog's notes on stderr
     try {
       LogReadOptions read = args.log_read;
       read.carmen.progress = args.read.progress;

@@ -124,16 +124,10 @@ Ros2BagSummary summarizeRos2Bag(const fs::path& path) {
   std::map<std::pair<std::string, std::string>, bool> statics;
   std::set<std::string> scan_frames;
   std::map<std::string, std::size_t> counters;
-  bool first = true;
-  bag->forEach({}, [&](const ros2::BagMessage& m) {
-    const double t = 1e-9 * static_cast<double>(m.log_time_ns);
-    if (first || t < s.t_first) s.t_first = t;
-    if (first || t > s.t_last) s.t_last = t;
-    first = false;
-    ++s.messages;
+  std::size_t bad = 0;
+  std::string first_error;
+  auto decode = [&](const ros2::BagMessage& m, const std::string& where) {
     const std::string& name = m.topic->name;
-    if (!readable.contains(name)) return true;
-    const std::string where = path.string() + ": topic " + name + ", message " + std::to_string(counters[name]++);
     if (m.topic->type == ros2::kTFMessageType) {
       const ros2::TFMessageMsg msg = ros2::decodeTFMessage(m.data, where);
       const bool is_static = name.ends_with("tf_static");
@@ -147,11 +141,29 @@ Ros2BagSummary summarizeRos2Bag(const fs::path& path) {
     } else {
       scan_frames.insert(ros2::decodeMultiEchoLaserScan(m.data, where).header.frame_id);
     }
+  };
+  bool first = true;
+  bag->forEach({}, [&](const ros2::BagMessage& m) {
+    const double t = 1e-9 * static_cast<double>(m.log_time_ns);
+    if (first || t < s.t_first) s.t_first = t;
+    if (first || t > s.t_last) s.t_last = t;
+    first = false;
+    ++s.messages;
+    const std::string& name = m.topic->name;
+    if (!readable.contains(name)) return true;
+    const std::string where = path.string() + ": topic " + name + ", message " + std::to_string(counters[name]++);
+    try {
+      decode(m, where);
+    } catch (const Error& e) {
+      if (bad++ == 0) first_error = e.what();
+    }
     return true;
   });
   for (const auto& [edge, n] : samples) s.transforms.push_back({edge.first, edge.second, statics[edge], n});
   s.scan_frames.assign(scan_frames.begin(), scan_frames.end());
   s.max_tilt = tf.maxTilt();
+  s.notes = bag->notes();
+  if (bad > 0) s.notes.push_back(std::to_string(bad) + " messages could not be decoded; the first: " + first_error);
   return s;
 }
 

@@ -300,6 +300,13 @@ TEST(Ros2Log, TruncatedBagOrMessageIsAnError) {
     w.close();
   }
   expectError([&] { readLog(dir / "cut"); }, {"topic /scan, message 0", "byte offset", "ranges"});
+  // info still summarises it, naming the message that did not decode
+  const Ros2BagSummary sum = summarizeRos2Bag(dir / "cut");
+  EXPECT_EQ(sum.messages, 1u);
+  std::string all;
+  for (const auto& n : sum.notes) all += n + "\n";
+  EXPECT_NE(all.find("1 messages could not be decoded; the first: "), std::string::npos) << all;
+  EXPECT_NE(all.find("topic /scan, message 0"), std::string::npos) << all;
 }
 
 TEST(Ros2Log, ExtrapolationMultiEchoAndMemoryLimit) {

@@ -56,12 +56,14 @@ struct Ros2BagSummary {
     std::size_t samples = 0;
   };
   std::vector<Transform> transforms;
-  std::vector<std::string> scan_frames;                 ///< header.frame_id of the scan topics' messages
-  double max_tilt = 0.0;                                ///< largest roll/pitch of any transform [rad]
+  std::vector<std::string> scan_frames;  ///< header.frame_id of the scan topics' messages
+  double max_tilt = 0.0;                 ///< largest roll/pitch of any transform [rad]
+  std::vector<std::string> notes;        ///< what the storage reader found, and messages that did not decode
   double duration() const { return t_last - t_first; }  ///< [s]
 };
 
-/// Reads every message's time and decodes the transforms and the scans' frames.
+/// Reads every message's time and decodes the transforms and the scans' frames (messages that do
+/// not decode are counted in the notes, not an error: info is for looking at broken bags too).
 Ros2BagSummary summarizeRos2Bag(const std::filesystem::path& path);
 
 }  // namespace glassmap
