@@ -48,12 +48,24 @@ Ros2LogWriteResult writeRos2Log(const LaserLog& log, const fs::path& path, const
   const int tf_id = writer.addTopic("/tf", ros2::kTFMessageType, tf_def);
   const int tf_static_id = writer.addTopic("/tf_static", ros2::kTFMessageType, tf_def);
 
+  // Header stamps keep the log's times (ROS 2 Time has signed seconds); log times of a bag cannot be
+  // negative, so a log stamped from before 0 (relative CARMEN times) is shifted as a whole.
+  double t_min = log.scans.front().timestamp;
+  for (const LaserScan& s : log.scans) t_min = std::min(t_min, s.timestamp);
+  for (const StampedPose& p : log.odometry) t_min = std::min(t_min, p.timestamp);
+  const std::int64_t shift_ns = t_min < 0.0 ? -ros2::TimeMsg::fromSeconds(t_min).nanoseconds() : 0;
+  auto logTime = [&](const ros2::TimeMsg& stamp) { return stamp.nanoseconds() + shift_ns; };
+  if (shift_ns > 0)
+    result.notes.push_back("the log has stamps before 0 (earliest " + std::to_string(t_min) +
+                           " s): the bag's log times are the stamps plus " + std::to_string(1e-9 * shift_ns) +
+                           " s; message header stamps keep the log's times");
+
   // /tf_static: base -> each laser, identity (the laser poses are carried by map -> odom)
   const ros2::TimeMsg t0 = ros2::TimeMsg::fromSeconds(log.scans.front().timestamp);
   ros2::TFMessageMsg statics;
   for (const auto& [id, topic] : scan_topic_ids)
     statics.transforms.push_back(transform(t0, fr.base_frame, suffixed(fr.laser_frame, id, first_id), Pose2()));
-  writer.write(tf_static_id, t0.nanoseconds(), ros2::encode(statics));
+  writer.write(tf_static_id, logTime(t0), ros2::encode(statics));
   ++result.tf_messages;
 
   for (const LaserScan& s : log.scans) {
@@ -67,7 +79,7 @@ Ros2LogWriteResult writeRos2Log(const LaserLog& log, const fs::path& path, const
     m.range_min = 0.0f;
     m.range_max = static_cast<float>(s.max_range);
     m.ranges = s.ranges;  // kNoReturn is +inf: what REP 117 calls no return
-    writer.write(scan_topic_ids.at(s.laser_id), stamp.nanoseconds(), ros2::encode(m));
+    writer.write(scan_topic_ids.at(s.laser_id), logTime(stamp), ros2::encode(m));
     ++result.scans;
 
     // odom -> base = the odometry pose; map -> odom so that map -> odom -> base -> laser = laser pose
@@ -76,7 +88,7 @@ Ros2LogWriteResult writeRos2Log(const LaserLog& log, const fs::path& path, const
     if (s.has_laser_pose)
       tf.transforms.push_back(transform(stamp, fr.map_frame, fr.odom_frame, s.laser_pose * T_odom_base.inverse()));
     tf.transforms.push_back(transform(stamp, fr.odom_frame, fr.base_frame, T_odom_base));
-    writer.write(tf_id, stamp.nanoseconds(), ros2::encode(tf));
+    writer.write(tf_id, logTime(stamp), ros2::encode(tf));
     ++result.tf_messages;
   }
 
@@ -89,7 +101,7 @@ Ros2LogWriteResult writeRos2Log(const LaserLog& log, const fs::path& path, const
     m.orientation = ros2::yawQuaternion(pose.theta);
     m.linear = {tv, 0.0, 0.0};
     m.angular = {0.0, 0.0, rv};
-    writer.write(odom_id, m.header.stamp.nanoseconds(), ros2::encode(m));
+    writer.write(odom_id, logTime(m.header.stamp), ros2::encode(m));
     ++result.odometry;
   };
   if (!log.odometry.empty()) {

@@ -360,6 +360,24 @@ TEST(Ros2Log, ExtrapolationMultiEchoAndMemoryLimit) {
   expectError([&] { readLog(dir / "bag", small); }, {"memory limit"});
 }
 
+TEST(Ros2Log, NegativeStampsKeptLogTimesShifted) {
+  TempDir dir;
+  LaserLog sim = simulatedLog(20, 2);
+  for (LaserScan& s : sim.scans) s.timestamp -= 1700000001.0;  // relative times from -0.987 s
+  for (StampedPose& p : sim.odometry) p.timestamp -= 1700000001.0;
+  const Ros2LogWriteResult w = writeRos2Log(sim, dir / "bag");
+  ASSERT_EQ(w.notes.size(), 1u);
+  EXPECT_NE(w.notes[0].find("stamps before 0"), std::string::npos) << w.notes[0];
+  const LaserLog back = readLog(dir / "bag");
+  ASSERT_EQ(back.scans.size(), sim.scans.size());
+  for (std::size_t i = 0; i < sim.scans.size(); ++i) {
+    EXPECT_NEAR(back.scans[i].timestamp, sim.scans[i].timestamp, 1e-9);
+    EXPECT_TRUE(approxEqual(back.scans[i].laser_pose, sim.scans[i].laser_pose, 1e-9, 1e-9));
+  }
+  EXPECT_LT(back.scans.front().timestamp, 0.0);
+  EXPECT_NEAR(summarizeRos2Bag(dir / "bag").t_first, 0.0, 1e-9);
+}
+
 TEST(Ros2Log, CarmenLogsStillReadThroughReadLog) {
   TempDir dir;
   const LaserLog sim = simulatedLog(5, 1);
