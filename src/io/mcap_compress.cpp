@@ -21,10 +21,12 @@ std::uint64_t expansionLimit(std::size_t in_size) {
   return std::max<std::uint64_t>(kFloorLimit, kRatioLimit * in_size);
 }
 
-/// Grows `out` for the next decoder call: doubles, capped at `limit`; false when at the cap.
-bool grow(std::vector<std::uint8_t>& out, std::size_t used, std::uint64_t limit) {
+/// Grows `out` for the next decoder call: first to what a 16:1 ratio of `in_size` gives, then
+/// doubling, capped at `limit`; false when at the cap.
+bool grow(std::vector<std::uint8_t>& out, std::size_t used, std::uint64_t limit, std::size_t in_size) {
   if (used >= limit) return false;
-  const std::uint64_t want = std::min<std::uint64_t>(limit, std::max<std::uint64_t>(used * 2, 64 << 10));
+  const std::uint64_t first = std::max<std::uint64_t>(64 << 10, 16 * static_cast<std::uint64_t>(in_size));
+  const std::uint64_t want = std::min<std::uint64_t>(limit, used == 0 ? first : std::max<std::uint64_t>(used * 2, first));
   out.resize(static_cast<std::size_t>(want));
   return true;
 }
@@ -39,7 +41,7 @@ bool zstdStream(std::span<const std::uint8_t> in, std::vector<std::uint8_t>& out
   std::size_t used = 0;
   out.clear();
   for (;;) {
-    if (used == out.size() && !grow(out, used, limit)) {
+    if (used == out.size() && !grow(out, used, limit, in.size())) {
       // Full: the frame may still be complete (an exact fit) — check with an empty output.
       std::uint8_t probe = 0;
       ZSTD_outBuffer dst{&probe, 1, 0};
@@ -70,7 +72,7 @@ bool lz4Stream(std::span<const std::uint8_t> in, std::vector<std::uint8_t>& out,
   std::size_t pos = 0, used = 0;
   out.clear();
   for (;;) {
-    if (used == out.size() && !grow(out, used, limit)) {
+    if (used == out.size() && !grow(out, used, limit, in.size())) {
       std::uint8_t probe = 0;
       std::size_t dst_size = 1, src_size = in.size() - pos;
       const std::size_t r = LZ4F_decompress(ctx.get(), &probe, &dst_size, in.data() + pos, &src_size, nullptr);

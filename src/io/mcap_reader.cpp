@@ -117,6 +117,15 @@ McapFileReader::McapFileReader(const std::filesystem::path& path)
       }
     }
   }
+  // Each chunk once, and no two overlapping: the work of an indexed read stays within the file.
+  std::sort(chunks_.begin(), chunks_.end(),
+            [](const ChunkIndex& a, const ChunkIndex& b) { return a.offset < b.offset; });
+  chunks_.erase(std::unique(chunks_.begin(), chunks_.end(),
+                            [](const ChunkIndex& a, const ChunkIndex& b) { return a.offset == b.offset; }),
+                chunks_.end());
+  for (std::size_t i = 1; i < chunks_.size(); ++i)
+    if (chunks_[i].offset < chunks_[i - 1].offset + chunks_[i - 1].length)
+      throw Error(at(chunks_[i].offset) + ": the summary's chunk indexes give overlapping chunks", name_);
   indexed_ = !chunks_.empty();
   const bool counted =
       std::any_of(topics_.begin(), topics_.end(), [](const BagTopic& t) { return t.message_count > 0; });
@@ -126,7 +135,7 @@ McapFileReader::McapFileReader(const std::filesystem::path& path)
       (void)readIndexed(
           nullptr,
           [&](const RawMessage& m) {
-            ++topics_[static_cast<std::size_t>(topicOf(m.channel, 0))].message_count;
+            ++topics_[static_cast<std::size_t>(topicOf(m.channel, m.where))].message_count;
             return true;
           },
           {}, this);
@@ -137,7 +146,7 @@ McapFileReader::McapFileReader(const std::filesystem::path& path)
     for (auto& t : topics_) t.message_count = 0;
     (void)readLinear(
         [&](const RawMessage& m) {
-          ++topics_[static_cast<std::size_t>(topicOf(m.channel, 0))].message_count;
+          ++topics_[static_cast<std::size_t>(topicOf(m.channel, m.where))].message_count;
           return true;
         },
         {}, this);
@@ -276,6 +285,7 @@ bool McapFileReader::chunkRecords(std::span<const std::uint8_t> r, std::uint64_t
       m.log_time = f.u64();
       m.publish_time = f.u64();
       m.data = f.rest();
+      m.where = chunk_offset;
       if (!visit(m)) return false;
     } else if (learn && op == kSchema) {
       learn->addSchema(f);
@@ -332,6 +342,7 @@ bool McapFileReader::readLinear(const Visit& visit, const std::function<void(std
       m.log_time = f.u64();
       m.publish_time = f.u64();
       m.data = f.rest();
+      m.where = pos;
       if (!visit(m)) return false;
     } else if (op == kChunk) {
       unpackChunk(rec, pos, chunk);
@@ -401,7 +412,7 @@ void McapFileReader::forEach(const std::set<std::string>& topic_names, const std
     if (topic_names.empty() || topic_names.count(topics_[static_cast<std::size_t>(t)].name)) wanted.insert(ch);
   const auto emit = [&](const RawMessage& m) {
     if (!wanted.count(m.channel)) {
-      (void)topicOf(m.channel, 0);  // an undeclared channel is an error even when filtered out
+      (void)topicOf(m.channel, m.where);  // an undeclared channel is an error even when filtered out
       return true;
     }
     BagMessage out;

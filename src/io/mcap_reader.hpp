@@ -54,6 +54,7 @@ class McapFileReader final : public BagReader {
   struct RawMessage {
     std::uint16_t channel = 0;
     std::uint64_t log_time = 0, publish_time = 0;
+    std::uint64_t where = 0;  ///< byte offset of the record (of its chunk, for chunked messages)
     std::span<const std::uint8_t> data;
   };
   /// Visits messages; returns false to stop.

@@ -101,6 +101,8 @@ DirectoryReader::DirectoryReader(const fs::path& dir) {
     std::error_code ec;
     // Older rosbag2 versions wrote the paths with the bag folder's name in front.
     if (!fs::exists(file, ec) && fs::exists(dir / rel.filename(), ec)) file = dir / rel.filename();
+    // FILE mode lists the names before or after compression, depending on the rosbag2 version.
+    if (file_mode && !fs::exists(file, ec) && fs::exists(file.string() + ".zstd", ec)) file += ".zstd";
     if (!fs::is_regular_file(file, ec))
       throw Error("lists '" + rel.string() + "', which is not in the bag folder", mname, p.Mark().line + 1,
                   "relative_file_paths");

@@ -57,8 +57,11 @@ std::string text(sqlite3_stmt* s, int col) {
 }  // namespace
 
 SqliteFileReader::SqliteFileReader(const std::filesystem::path& path) : path_(path), name_(path.string()) {
-  // Read-only and immutable: no journal, no lock files next to the bag.
-  const std::string uri = fileUri(path) + "?immutable=1";
+  // Read-only and immutable (no lock files next to the bag), unless a write-ahead log of an
+  // interrupted recording (rosbag2's resilient preset) holds messages still to be read.
+  std::error_code ec;
+  const bool wal = std::filesystem::exists(path.string() + "-wal", ec);
+  const std::string uri = fileUri(path) + (wal ? "?mode=ro" : "?immutable=1");
   if (sqlite3_open_v2(uri.c_str(), &db_, SQLITE_OPEN_READONLY | SQLITE_OPEN_URI, nullptr) != SQLITE_OK) {
     const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
     sqlite3_close(db_);

@@ -9,7 +9,12 @@
 /// of newer rosbag2 versions are optional).
 ///
 /// Errors (missing files, bad magic, truncated records, CRC mismatches, unknown compression)
-/// throw Error naming the file and the byte offset or record.
+/// throw Error naming the file and the byte offset or record. A truncated MCAP file (one that
+/// does not end in a Footer and the closing magic, e.g. a recording that was killed) opens, and
+/// forEach delivers every complete message before it throws Error naming the byte where the data
+/// stops; a file lacking only the summary is legal and read linearly without error. Lengths in a
+/// file never allocate more than the file (or, for compressed chunks, max(64 MiB, 256 × the
+/// compressed size)) can justify.
 
 #include <cstdint>
 #include <filesystem>
