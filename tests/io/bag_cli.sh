@@ -55,6 +55,13 @@ check "floorplan evidence within 1e-5" awk 'BEGIN { bad = 0 } { d = $1 - $2; if 
   END { exit bad }' <(paste <(evidence "$work/map_clf/floorplan.geojson") <(evidence "$work/map_bag/floorplan.geojson"))
 check "evidence values compared" test "$(evidence "$work/map_clf/floorplan.geojson" | wc -l)" -gt 0
 
+"$glassmap" localize --map "$work/sim/floorplan.geojson" "$work/bag_mcap" -o "$work/est.tum" --init 1,1.2,0 \
+  --particles 200 --beams 10 --seed 1 >/dev/null 2>"$work/loc_err.txt"
+check "localize on a bag exits 0" test $? -eq 0
+check "localize takes odometry alone" grep -q "laser poses from odom -> base_link (/tf) -> laser" "$work/loc_err.txt"
+check "localize says map -> odom is ignored" grep -q "map -> odom ignored" "$work/loc_err.txt"
+check "localize wrote every pose" test "$(grep -vc '^#' "$work/est.tum")" -eq "$(grep -c '^ROBOTLASER1' "$work/sim/log.clf")"
+
 "$glassmap" convert "$work/bag_mcap" "$work/back.clf" -q
 check "bag -> CARMEN exits 0" test $? -eq 0
 "$glassmap" map "$work/back.clf" -o "$work/map_back" -q --method direct
