@@ -32,6 +32,7 @@ McapWriter::~McapWriter() {
 }
 
 void McapWriter::out(std::span<const std::uint8_t> bytes) {
+  if (bytes.empty()) return;  // an empty summary: fwrite must not see its null pointer
   if (std::fwrite(bytes.data(), 1, bytes.size(), file_) != bytes.size())
     throw Error(std::string("cannot write: ") + std::strerror(errno), path_.string());
   if (in_data_) data_crc_ = crc32(data_crc_, bytes);

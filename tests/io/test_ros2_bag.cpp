@@ -292,5 +292,47 @@ TEST(Ros2Bag, UnknownCompressionAndHostileLengths) {
   EXPECT_NE(err.find("channel 9"), std::string::npos) << err;
 }
 
+/// A hand-built indexed MCAP: one uncompressed chunk, then a summary whose chunk indexes are
+/// given as (offset, length) pairs relative to the chunk (`{0, 0}` = the chunk itself).
+std::vector<std::uint8_t> indexedMcap(const std::vector<std::pair<std::int64_t, std::int64_t>>& indexes) {
+  McapBytes inner;
+  inner.schema(1, "a", "").channel(1, 1, "/a").record(0x05, McapBytes::message(1, 7, 6, {4, 2}));
+  McapBytes f;
+  f.magic().header();
+  const std::uint64_t chunk_at = f.b.size();
+  f.record(0x06, chunkRecord("", inner.b.size(), inner.b));
+  const std::uint64_t chunk_length = f.b.size() - chunk_at;
+  f.dataEnd();
+  const std::uint64_t summary_at = f.b.size();
+  f.schema(1, "a", "").channel(1, 1, "/a");
+  for (const auto& [off, len] : indexes) {
+    McapBytes c;
+    c.u64(7).u64(7).u64(chunk_at + static_cast<std::uint64_t>(off)).u64(chunk_length + static_cast<std::uint64_t>(len));
+    c.u32(0).u64(0).str("").u64(inner.b.size()).u64(inner.b.size());
+    f.record(0x08, c);
+  }
+  f.record(0x02, McapBytes().u64(summary_at).u64(0).u32(0)).magic();
+  return f.b;
+}
+
+TEST(Ros2Bag, HandBuiltIndexedMcapAndBadChunkIndexes) {
+  TempDir dir;
+  // The same chunk indexed twice is read once.
+  test::writeBytes(dir / "twice.mcap", indexedMcap({{0, 0}, {0, 0}}));
+  const auto bag = ros2::openBag(dir / "twice.mcap");
+  const std::vector<TestMessage> want = {{"/a", 7, 6, {4, 2}}};
+  EXPECT_EQ(test::readAll(*bag), want);
+  ASSERT_EQ(bag->topics().size(), 1u);
+  EXPECT_EQ(bag->topics()[0].message_count, 1u);
+  // Overlapping chunks, a chunk past the end of the file, an index not pointing at a chunk.
+  test::writeBytes(dir / "overlap.mcap", indexedMcap({{0, 0}, {1, -1}}));
+  EXPECT_NE(errorOf([&] { (void)ros2::openBag(dir / "overlap.mcap"); }).find("overlapping"), std::string::npos);
+  test::writeBytes(dir / "past.mcap", indexedMcap({{0, 1ll << 40}}));
+  EXPECT_NE(errorOf([&] { (void)ros2::openBag(dir / "past.mcap"); }).find("outside the file"), std::string::npos);
+  test::writeBytes(dir / "shifted.mcap", indexedMcap({{1, 0}}));
+  EXPECT_NE(errorOf([&] { (void)test::readAll(*ros2::openBag(dir / "shifted.mcap")); }).find("no Chunk record"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace glassmap
