@@ -121,4 +121,37 @@ std::function<void(std::uint64_t, std::uint64_t)> readProgress(bool show) {
   };
 }
 
+void addLogOptions(CLI::App& cmd, LogReadOptions& options) {
+  Ros2LogOptions& r = options.ros2;
+  const std::string group = "ROS 2 bag logs";
+  cmd.add_option("--scan-topic", r.scan_topic,
+                 "bags: topic of the scans (sensor_msgs/msg/LaserScan or MultiEchoLaserScan); default: the only one")
+      ->group(group);
+  cmd.add_option("--odom-topic", r.odom_topic,
+                 "bags: nav_msgs/msg/Odometry topic, used when /tf has no odom -> base transform; default: the only "
+                 "one")
+      ->group(group);
+  cmd.add_option("--map-frame", r.map_frame, "bags: frame of SLAM-corrected poses (map -> odom in /tf)")
+      ->capture_default_str()
+      ->group(group);
+  cmd.add_option("--odom-frame", r.odom_frame, "bags: odometry frame")->capture_default_str()->group(group);
+  cmd.add_option("--base-frame", r.base_frame,
+                 "bags: robot frame; default: the odometry's child_frame_id, else the child of the odometry frame in "
+                 "/tf, else base_link")
+      ->group(group);
+}
+
+void printLogNotes(const LogReadNotes& notes, bool quiet) {
+  if (!quiet)
+    for (const std::string& n : notes.notes) std::cerr << "glassmap: " << n << "\n";
+  for (const std::string& w : notes.warnings) std::cerr << "glassmap: warning: " << w << "\n";
+}
+
+LaserLog readLogReporting(const std::string& path, const LogReadOptions& options, bool quiet) {
+  LogReadNotes notes;
+  LaserLog log = readLog(path, options, &notes);
+  printLogNotes(notes, quiet);
+  return log;
+}
+
 }  // namespace glassmap::cli

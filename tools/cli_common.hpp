@@ -10,6 +10,7 @@
 #include "glassmap/core/pose2.hpp"
 #include "glassmap/core/sensor_profile.hpp"
 #include "glassmap/geometry/vector_map.hpp"
+#include "glassmap/io/log.hpp"
 
 namespace glassmap::cli {
 
@@ -47,6 +48,20 @@ void addUnitsOption(CLI::App& cmd, std::string& units);
 
 /// Adds --layers (CAD layer -> material rules) to a verb that reads floorplans.
 void addLayersOption(CLI::App& cmd, std::string& layers);
+
+/// Adds the options of a log that is a ROS 2 bag (--scan-topic, --odom-topic, --map-frame,
+/// --odom-frame, --base-frame) to a verb that reads a log.
+void addLogOptions(CLI::App& cmd, LogReadOptions& options);
+
+/// What a log argument's help says: CARMEN logs and ROS 2 bags.
+inline constexpr const char* kLogHelp =
+    "laser log: CARMEN (.clf/.log, optionally .gz) or ROS 2 bag (rosbag2 folder, .mcap or .db3)";
+
+/// Reads a log through readLog and prints its notes (unless `quiet`) and warnings on stderr.
+LaserLog readLogReporting(const std::string& path, const LogReadOptions& options, bool quiet = false);
+
+/// Prints readLog's notes (unless `quiet`) and warnings on stderr.
+void printLogNotes(const LogReadNotes& notes, bool quiet);
 
 /// Parses "x,y,theta" [m, m, rad]; throws Error naming `field` otherwise.
 Pose2 parsePose(const std::string& text, const std::string& field);

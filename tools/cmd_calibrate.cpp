@@ -7,7 +7,7 @@
 
 #include "cli_common.hpp"
 #include "glassmap/core/error.hpp"
-#include "glassmap/io/carmen.hpp"
+#include "glassmap/io/log.hpp"
 #include "glassmap/io/sensor_profile.hpp"
 #include "glassmap/pipeline/map_log.hpp"
 #include "glassmap/pipeline/reports.hpp"
@@ -16,6 +16,7 @@ namespace glassmap {
 namespace {
 
 struct CalibrateArgs {
+  LogReadOptions read;
   std::string log, map, units, layers, out, json, chart;
   int laser_id = 0;
   bool quiet = false;
@@ -25,10 +26,11 @@ struct CalibrateArgs {
 void run(CalibrateArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   const bool show_progress = !a.quiet && cli::stderrIsTerminal();
-  CarmenReadOptions read;
-  read.laser_id = a.laser_id;
-  read.progress = cli::readProgress(show_progress);
-  const LaserLog log = readCarmenLog(a.log, read);
+  LogReadOptions read = a.read;
+  read.carmen.laser_id = a.laser_id;
+  read.carmen.progress = cli::readProgress(show_progress);
+  read.ros2.pose_source = BagPoseSource::Auto;
+  const LaserLog log = cli::readLogReporting(a.log, read, a.quiet);
   VectorMap plan;
   if (!a.map.empty()) plan = cli::readPlan(a.map, a.units, a.layers, a.quiet);
   auto progress = [&](const char* stage, double f) {
@@ -95,9 +97,10 @@ const cli::Registrar reg(38, [](CLI::App& app) {
       "pose is first aligned to the walls. Without --map the log is mapped first and the profile fitted\n"
       "against its own floorplan, then refitted after a second mapping with the fitted thresholds.\n"
       "Use the profile with `glassmap map --sensor`.");
-  cmd->add_option("log", a->log, "CARMEN log (.clf/.log, optionally .gz) with SLAM-corrected laser poses")
+  cmd->add_option("log", a->log, std::string(cli::kLogHelp) + " with SLAM-corrected laser poses")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(CLI::ExistingPath);
+  cli::addLogOptions(*cmd, a->read);
   cmd->add_option("--map", a->map,
                   "floorplan (GPKG, GeoJSON, DXF, Shapefile) in the frame of the log's laser poses, with\n"
                   "wall and glass segments; without it the log's own map is used")

@@ -10,8 +10,8 @@
 #include "glassmap/core/error.hpp"
 #include "glassmap/eval/segments.hpp"
 #include "glassmap/eval/visibility.hpp"
-#include "glassmap/io/carmen.hpp"
 #include "glassmap/io/floorplan.hpp"
+#include "glassmap/io/log.hpp"
 
 namespace glassmap {
 namespace {
@@ -20,6 +20,7 @@ namespace fs = std::filesystem;
 
 struct EvalSegmentsArgs {
   std::string truth, pred, json, visible_from;
+  LogReadOptions read;  // of --visible-from
   eval::SegmentEvalOptions options;
   std::string units, layers;  // of the truth (layers: both)
   bool quiet = false;
@@ -44,7 +45,9 @@ void run(const EvalSegmentsArgs& args) {
   double seen_glass_f1 = 0.0, seen_wall_f1 = 0.0;
   const bool with_seen = !args.visible_from.empty();
   if (with_seen) {
-    const LaserLog log = readCarmenLog(args.visible_from);
+    LogReadOptions read = args.read;
+    read.ros2.pose_source = BagPoseSource::Auto;
+    const LaserLog log = cli::readLogReporting(args.visible_from, read, args.quiet);
     const VectorMap visible = eval::visiblePart(truth, eval::viewpointsOfLog(log), args.options.sample_step);
     seen = eval::evaluateSegments(visible, pred, args.options);
     auto f1 = [](double p, double r) { return p + r > 0 ? 2 * p * r / (p + r) : 0.0; };
@@ -104,9 +107,10 @@ const cli::Registrar reg(74, [](CLI::App& app) {
   cmd->add_option("--tol", args->options.tolerance, "match distance [m]")->capture_default_str();
   cmd->add_option("--step", args->options.sample_step, "sample spacing [m]")->capture_default_str();
   cmd->add_option("--visible-from", args->visible_from,
-                  "CARMEN log the map was made from: also score recall against only the truth some laser pose\n"
-                  "had in line of sight (within range and field of view; glass is see-through)")
-      ->check(CLI::ExistingFile);
+                  "log the map was made from (CARMEN or ROS 2 bag): also score recall against only the truth\n"
+                  "some laser pose had in line of sight (within range and field of view; glass is see-through)")
+      ->check(CLI::ExistingPath);
+  cli::addLogOptions(*cmd, args->read);
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");
   cli::addUnitsOption(*cmd, args->units);
   cli::addLayersOption(*cmd, args->layers);

@@ -4,11 +4,15 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "cli_common.hpp"
 #include "glassmap/core/angles.hpp"
+#include "glassmap/core/error.hpp"
+#include "glassmap/io/log.hpp"
 #include "glassmap/io/log_summary.hpp"
+#include "glassmap/io/ros2_log.hpp"
 
 namespace glassmap {
 namespace {
@@ -17,7 +21,55 @@ struct InfoArgs {
   std::string log;
   bool json = false;
   CarmenReadOptions read;
+  LogReadOptions log_read;  // bags
 };
+
+const char* storageName(ros2::BagStorage s) { return s == ros2::BagStorage::Mcap ? "mcap" : "sqlite3"; }
+
+nlohmann::json bagJson(const Ros2BagSummary& b) {
+  nlohmann::json j;
+  j["storage"] = storageName(b.storage);
+  j["files"] = nlohmann::json::array();
+  for (const auto& f : b.files) j["files"].push_back(f.string());
+  j["messages"] = b.messages;
+  j["time_first_s"] = b.t_first;
+  j["time_last_s"] = b.t_last;
+  j["topics"] = nlohmann::json::array();
+  for (const auto& t : b.topics)
+    j["topics"].push_back(
+        {{"name", t.name}, {"type", t.type}, {"serialization", t.serialization_format}, {"messages", t.message_count}});
+  j["transforms"] = nlohmann::json::array();
+  for (const auto& t : b.transforms)
+    j["transforms"].push_back(
+        {{"parent", t.parent}, {"child", t.child}, {"static", t.is_static}, {"samples", t.samples}});
+  j["scan_frames"] = b.scan_frames;
+  j["max_tilt_deg"] = rad2deg(b.max_tilt);
+  j["notes"] = b.notes;
+  return j;
+}
+
+void printBag(const Ros2BagSummary& b, const std::string& path) {
+  std::printf("%-20s %s (ROS 2 bag, %s, %zu file%s)\n", "bag", path.c_str(), storageName(b.storage), b.files.size(),
+              b.files.size() == 1 ? "" : "s");
+  std::printf("%-20s %llu in %.1f s (%.3f .. %.3f)\n", "messages", static_cast<unsigned long long>(b.messages),
+              b.duration(), b.t_first, b.t_last);
+  std::printf("topics\n");
+  for (const auto& t : b.topics)
+    std::printf("  %-26s %-36s %8llu%s\n", t.name.c_str(), t.type.c_str(),
+                static_cast<unsigned long long>(t.message_count),
+                t.serialization_format == "cdr" ? "" : ("  (" + t.serialization_format + ")").c_str());
+  std::printf("frames\n");
+  for (const auto& t : b.transforms)
+    std::printf("  %-26s -> %-24s %s %zu\n", t.parent.c_str(), t.child.c_str(), t.is_static ? "static " : "dynamic",
+                t.samples);
+  if (b.transforms.empty()) std::printf("  (no /tf or /tf_static transforms)\n");
+  std::string frames;
+  for (const auto& f : b.scan_frames) frames += (frames.empty() ? "" : ", ") + f;
+  if (!frames.empty()) std::printf("%-20s %s\n", "scan frames", frames.c_str());
+  if (b.max_tilt > 0.0872664626)
+    std::printf("%-20s %.1f deg (projected onto the plane)\n", "largest tilt", rad2deg(b.max_tilt));
+  for (const auto& n : b.notes) std::printf("%-20s %s\n", "note", n.c_str());
+}
 
 std::string range(double lo, double hi, const char* fmt) {
   char a[64], b[64];
@@ -28,12 +80,33 @@ std::string range(double lo, double hi, const char* fmt) {
 
 void run(const InfoArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
-  const LogSummary s = summarizeCarmenLog(args.log, args.read);
+  const bool bag = isRos2Bag(args.log);
+  std::optional<Ros2BagSummary> bag_summary;
+  LogSummary s;
+  std::string scan_error;  // a bag whose scans cannot be read is still summarised
+  if (bag) {
+    bag_summary = summarizeRos2Bag(args.log);
+    if (!args.json) printBag(*bag_summary, args.log);
+    std::fflush(stdout);  // before readLog's notes on stderr
+    try {
+      LogReadOptions read = args.log_read;
+      read.carmen.progress = args.read.progress;
+      read.ros2.pose_source = BagPoseSource::Auto;
+      s = summarizeLog(cli::readLogReporting(args.log, read, args.json));
+    } catch (const Error& e) {
+      scan_error = e.what();
+      std::cerr << "glassmap: warning: " << scan_error << "\n";
+    }
+  } else {
+    s = summarizeCarmenLog(args.log, args.read);
+  }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   if (args.json) {
     nlohmann::json j;
     j["log"] = args.log;
+    if (bag_summary) j["bag"] = bagJson(*bag_summary);
+    if (!scan_error.empty()) j["scan_error"] = scan_error;
     j["scans"] = s.scans;
     nlohmann::json per_laser = nlohmann::json::object();
     for (const auto& [id, n] : s.scans_per_laser) per_laser[std::to_string(id)] = n;
@@ -75,7 +148,8 @@ void run(const InfoArgs& args) {
 
   auto row = [](const char* key, const std::string& value) { std::printf("%-20s %s\n", key, value.c_str()); };
   char buf[256];
-  row("log", args.log);
+  if (bag && !scan_error.empty()) return;
+  if (!bag) row("log", args.log);
   std::string scans = std::to_string(s.scans);
   if (s.scans_per_laser.size() > 1 || (s.scans_per_laser.size() == 1 && s.scans_per_laser.begin()->first != 1)) {
     scans += " (";
@@ -111,13 +185,15 @@ void run(const InfoArgs& args) {
   }
   row("odometry records", std::to_string(s.stats.odometry));
   if (s.stats.true_poses) row("true poses", std::to_string(s.stats.true_poses));
-  row("params", std::to_string(s.stats.params));
-  std::string skipped = s.stats.skipped_by_type.empty() ? "none" : "";
-  for (const auto& [type, n] : s.stats.skipped_by_type) {
-    if (!skipped.empty()) skipped += ", ";
-    skipped += type + " " + std::to_string(n);
+  if (!bag) {
+    row("params", std::to_string(s.stats.params));
+    std::string skipped = s.stats.skipped_by_type.empty() ? "none" : "";
+    for (const auto& [type, n] : s.stats.skipped_by_type) {
+      if (!skipped.empty()) skipped += ", ";
+      skipped += type + " " + std::to_string(n);
+    }
+    row("skipped lines", skipped);
   }
-  row("skipped lines", skipped);
   row("no-return ranges", std::to_string(s.stats.no_return_ranges) + " (non-finite, negative or > 1e6 m)");
   if (s.stats.max_range_code > 0) {
     char code[160];
@@ -129,7 +205,11 @@ void run(const InfoArgs& args) {
     row("scan timestamps", std::to_string(s.stats.backward_timestamps) + " going backwards, " +
                                std::to_string(s.stats.repeated_timestamps) + " repeated");
   if (s.stats.filtered_scans) row("filtered scans", std::to_string(s.stats.filtered_scans) + " (--laser)");
-  std::snprintf(buf, sizeof buf, "%zu lines in %.2f s", s.stats.lines, seconds);
+  if (bag)
+    std::snprintf(buf, sizeof buf, "%llu messages in %.2f s", static_cast<unsigned long long>(bag_summary->messages),
+                  seconds);
+  else
+    std::snprintf(buf, sizeof buf, "%zu lines in %.2f s", s.stats.lines, seconds);
   row("read", buf);
 }
 
@@ -137,12 +217,12 @@ const cli::Registrar reg(10, [](CLI::App& app) {
   auto args = std::make_shared<InfoArgs>();
   CLI::App* sub = app.add_subcommand(
       "info",
-      "Summarise a CARMEN laser log (plain or gzip): scans, beams per scan, field of view, angular "
-      "resolution, max range, duration, distance travelled, bounding box of the laser poses, odometry "
-      "records, skipped line types and no-return ranges.");
-  sub->add_option("log", args->log, "CARMEN log (.clf/.log, optionally .gz; compression is detected)")
-      ->required()
-      ->check(CLI::ExistingFile);
+      "Summarise a laser log, CARMEN (plain or gzip) or ROS 2 bag: scans, beams per scan, field of view, "
+      "angular resolution, max range, duration, distance travelled, bounding box of the laser poses, odometry "
+      "records, skipped line types and no-return ranges; for a bag first its topics (type, message count), "
+      "the frames of /tf and /tf_static and its time span, then the scans as `map` reads them.");
+  sub->add_option("log", args->log, cli::kLogHelp)->required()->check(CLI::ExistingPath);
+  cli::addLogOptions(*sub, args->log_read);
   sub->add_flag("--json", args->json, "print the figures as JSON on stdout instead of a table");
   sub->add_option("--laser", args->read.laser_id,
                   "count only scans of this laser (1 = FLASER/front, 2 = RLASER/rear, n = RAWLASERn); 0 = all")

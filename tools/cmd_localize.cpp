@@ -8,8 +8,8 @@
 
 #include "cli_common.hpp"
 #include "glassmap/core/error.hpp"
-#include "glassmap/io/carmen.hpp"
 #include "glassmap/io/floorplan.hpp"
+#include "glassmap/io/log.hpp"
 #include "glassmap/io/sensor_profile.hpp"
 #include "glassmap/io/tum.hpp"
 #include "glassmap/pipeline/localize_checks.hpp"
@@ -20,6 +20,7 @@ namespace glassmap {
 namespace {
 
 struct LocalizeArgs {
+  LogReadOptions read;
   std::string map, log, out, json, spread;
   std::string model = "glass";
   std::string glass_as = "opaque";
@@ -48,9 +49,10 @@ void run(const LocalizeArgs& a) {
   // explicit --units, refuse; with one, only warn.
   pipeline::checkLocalizationPlan(map, a.map, scale_warning, !a.units.empty());
   if (!scale_warning.empty() && !a.quiet) std::cerr << "glassmap: warning: " << scale_warning << "\n";
-  CarmenReadOptions read;
-  read.progress = cli::readProgress(!a.quiet && cli::stderrIsTerminal());
-  const LaserLog log = readCarmenLog(a.log, read);
+  LogReadOptions read = a.read;
+  read.carmen.progress = cli::readProgress(!a.quiet && cli::stderrIsTerminal());
+  read.ros2.pose_source = BagPoseSource::Odometry;  // the filter wants raw odometry, not SLAM poses
+  const LaserLog log = cli::readLogReporting(a.log, read, a.quiet);
   if (log.scans.empty()) throw Error("the log holds no scan", a.log);
 
   pipeline::LocalizeOptions options;
@@ -117,7 +119,10 @@ const cli::Registrar reg(60, [](CLI::App& app) {
       "Monte Carlo localization of a laser log against a floorplan (any format the io module reads,\n"
       "a DXF with a GLASS layer included). Uses the log's odometry and ranges only, never its laser\n"
       "poses; writes one T_map_laser estimate per scan as TUM.");
-  sub->add_option("log", a->log, "CARMEN log (.clf, .log, .gz)")->required()->check(CLI::ExistingFile);
+  sub->add_option("log", a->log, std::string(cli::kLogHelp) + "; bags: odometry poses (odom -> base -> laser)")
+      ->required()
+      ->check(CLI::ExistingPath);
+  cli::addLogOptions(*sub, a->read);
   sub->add_option("--map", a->map, "floorplan: GeoJSON, GPKG, DXF, Shapefile, ...")
       ->required()
       ->check(CLI::ExistingFile);

@@ -8,7 +8,7 @@
 #include "cli_common.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
-#include "glassmap/io/carmen.hpp"
+#include "glassmap/io/log.hpp"
 #include "glassmap/io/sensor_profile.hpp"
 #include "glassmap/pipeline/map_files.hpp"
 #include "glassmap/pipeline/map_log.hpp"
@@ -31,6 +31,7 @@ struct MapArgs {
   double max_memory_mb = 4096.0;
   std::string sensor;
   pipeline::MapOptions options;
+  LogReadOptions read;
 };
 
 void run(MapArgs& args) {
@@ -38,13 +39,14 @@ void run(MapArgs& args) {
   const bool show_progress = !args.quiet && cli::stderrIsTerminal();
   // Fail now, not after the whole run, when the output cannot be written.
   checkWritableDirectory(args.out);
-  CarmenReadOptions read;
-  read.laser_id = args.laser_id;
-  read.max_memory_bytes = static_cast<std::size_t>(args.max_memory_mb * 1e6);  // the log counts too
-  read.progress = cli::readProgress(show_progress);
+  LogReadOptions read = args.read;
+  read.carmen.laser_id = args.laser_id;
+  read.carmen.max_memory_bytes = static_cast<std::size_t>(args.max_memory_mb * 1e6);  // the log counts too
+  read.carmen.progress = cli::readProgress(show_progress);
+  read.ros2.pose_source = BagPoseSource::Auto;  // SLAM poses (map -> odom) when the bag has them
   const LaserLog log = [&] {
     try {
-      return readCarmenLog(args.log, read);
+      return cli::readLogReporting(args.log, read, args.quiet);
     } catch (const Error& e) {
       if (e.message().find("(the memory limit)") == std::string::npos) throw;
       throw Error(e.message() + ": raise --max-memory (now " +
@@ -133,9 +135,13 @@ const cli::Registrar reg(40, [](CLI::App& app) {
       "DIR/map.yaml + map.pgm (ROS, glass as occupied), labels.tif (GeoTIFF codes), map.png, sensor.yaml\n"
       "(the fitted sensor profile), stats.json, "
       "floorplan.{gpkg,geojson,dxf,svg,png}.");
-  cmd->add_option("log", args->log, "CARMEN log (.clf/.log, optionally .gz) with SLAM-corrected laser poses")
+  cmd->add_option("log", args->log,
+                  std::string(cli::kLogHelp) +
+                      " with SLAM-corrected laser poses (bags: map -> odom in /tf when "
+                      "present, else odometry alone, with a warning)")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(CLI::ExistingPath);
+  cli::addLogOptions(*cmd, args->read);
   cmd->add_option("-o,--output", args->out, "output directory")->required();
   cmd->add_option(
          "--method", args->method,

@@ -5,8 +5,8 @@
 
 #include "cli_common.hpp"
 #include "glassmap/core/error.hpp"
-#include "glassmap/io/carmen.hpp"
 #include "glassmap/io/floorplan.hpp"
+#include "glassmap/io/log.hpp"
 #include "glassmap/io/render_floorplan.hpp"
 
 namespace glassmap {
@@ -18,6 +18,7 @@ struct RenderArgs {
   std::string floorplan, log, outcomes, out, units, layers;
   double ppm = 40.0;
   int every = 10;
+  LogReadOptions read;
 };
 
 // Colours of the simulator's beam outcomes (codes of sim::BeamOutcome).
@@ -29,7 +30,9 @@ void run(const RenderArgs& args) {
   FloorplanPicture pic;
   pic.pixels_per_metre = args.ppm;
   if (!args.log.empty()) {
-    const LaserLog log = readCarmenLog(args.log);
+    LogReadOptions read = args.read;
+    read.ros2.pose_source = BagPoseSource::Auto;
+    const LaserLog log = cli::readLogReporting(args.log, read);
     std::vector<std::uint8_t> outcomes;
     if (!args.outcomes.empty()) {
       std::ifstream in(args.outcomes, std::ios::binary);
@@ -75,7 +78,9 @@ const cli::Registrar reg(35, [](CLI::App& app) {
   sub->add_option("-o,--output", args->out, "output picture, .png or .svg")->required();
   cli::addUnitsOption(*sub, args->units);
   cli::addLayersOption(*sub, args->layers);
-  sub->add_option("--log", args->log, "CARMEN log: draw its laser poses and scan endpoints")->check(CLI::ExistingFile);
+  sub->add_option("--log", args->log, std::string(cli::kLogHelp) + ": draw its laser poses and scan endpoints")
+      ->check(CLI::ExistingPath);
+  cli::addLogOptions(*sub, args->read);
   sub->add_option("--outcomes", args->outcomes, "outcomes.bin written by 'glassmap simulate' for the same log")
       ->check(CLI::ExistingFile);
   sub->add_option("--every", args->every, "draw the endpoints of every N-th scan (0: none)")->capture_default_str();

@@ -5,7 +5,7 @@
 #   tools/fuzz.sh [-n RUNS] [-t MAX_SECONDS] [-j JOBS] [target ...]
 #
 # RUNS defaults to 1000000 executions per target, MAX_SECONDS (a safety bound per target) to 600.
-# Targets: fuzz_carmen fuzz_tum fuzz_rosmap fuzz_floorplan_geojson fuzz_floorplan_dxf fuzz_mcap
+# Targets: fuzz_carmen fuzz_tum fuzz_rosmap fuzz_floorplan_geojson fuzz_floorplan_dxf fuzz_mcap fuzz_ros2_log
 # (default: all).
 # New coverage-increasing inputs go to build-fuzz/corpus/<target>/ (the committed seeds stay as
 # they are); crashes, leaks, timeouts and out-of-memory inputs to build-fuzz/artifacts/<target>/.
@@ -26,7 +26,7 @@ done
 shift $((OPTIND - 1))
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(fuzz_carmen fuzz_tum fuzz_rosmap fuzz_floorplan_geojson fuzz_floorplan_dxf fuzz_mcap)
+  targets=(fuzz_carmen fuzz_tum fuzz_rosmap fuzz_floorplan_geojson fuzz_floorplan_dxf fuzz_mcap fuzz_ros2_log)
 fi
 
 root=$(cd "$(dirname "$0")/.." && pwd)

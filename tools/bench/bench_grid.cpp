@@ -10,7 +10,7 @@
 #include "glassmap/glass/mapping.hpp"
 #include "glassmap/grid/hit_miss_grid.hpp"
 #include "glassmap/grid/traversal.hpp"
-#include "glassmap/io/carmen.hpp"
+#include "glassmap/io/log.hpp"
 
 namespace {
 
@@ -74,7 +74,7 @@ void BM_MapFreiburg079(benchmark::State& state) {
     state.SkipWithError("freiburg-079-corrected.log.gz not found");
     return;
   }
-  const LaserLog log = readCarmenLog(log_path);
+  const LaserLog log = readLog(log_path);
   glass::MappingOptions o;
   o.method = state.range(0) == 0 ? glass::Method::Heuristic : glass::Method::Direct;
   glass::MappingStats st;

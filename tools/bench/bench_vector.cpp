@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "glassmap/glass/mapping.hpp"
-#include "glassmap/io/carmen.hpp"
+#include "glassmap/io/log.hpp"
 #include "glassmap/io/floorplan.hpp"
 #include "glassmap/sim/scene.hpp"
 #include "glassmap/sim/simulator.hpp"
@@ -35,7 +35,7 @@ const vector::LabelGrid* freiburgLabels() {
   static const std::unique_ptr<vector::LabelGrid> grid = []() -> std::unique_ptr<vector::LabelGrid> {
     const fs::path log = fs::path(GLASSMAP_SOURCE_DIR) / "../shared/data/real/freiburg-079-corrected.log.gz";
     if (!fs::exists(log)) return nullptr;
-    return std::make_unique<vector::LabelGrid>(vector::toLabelGrid(glass::mapLog(readCarmenLog(log), {}).evidence));
+    return std::make_unique<vector::LabelGrid>(vector::toLabelGrid(glass::mapLog(readLog(log), {}).evidence));
   }();
   return grid.get();
 }

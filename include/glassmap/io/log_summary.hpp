@@ -33,4 +33,7 @@ struct LogSummary {
 /// Streams a CARMEN log (plain or gzip) and summarises it in bounded memory.
 LogSummary summarizeCarmenLog(const std::filesystem::path& path, const CarmenReadOptions& options = {});
 
+/// The same figures for a log in memory (e.g. a bag read through readLog); stats are the log's.
+LogSummary summarizeLog(const LaserLog& log);
+
 }  // namespace glassmap
