@@ -12,12 +12,13 @@ namespace {
 struct EvalRaysArgs {
   std::string plan, log, json, units, layers;
   eval::ConsistencyOptions options;
+  LogReadOptions read;
   bool quiet = false;
 };
 
 void run(const EvalRaysArgs& args) {
   const VectorMap plan = cli::readPlan(args.plan, args.units, args.layers, args.quiet);
-  const LaserLog log = readLog(args.log);
+  const LaserLog log = cli::readLogReporting(args.log, args.read, args.quiet);
   const eval::ConsistencyResult r = eval::rayConsistency(log, plan, args.options);
   const nlohmann::json j = {{"plan", args.plan},
                             {"log", args.log},
@@ -60,7 +61,7 @@ const cli::Registrar reg(75, [](CLI::App& app) {
   cmd->add_option("--plan", args->plan, "floorplan (any format glassmap reads), e.g. DIR/floorplan.gpkg")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("log", args->log, "laser log whose laser poses are in the plan's frame")->required();
+  cmd->add_option("log", args->log, "laser log (CARMEN or ROS 2 bag) whose laser poses are in the plan's frame")->required();
   cmd->add_option("--tol", args->options.tolerance, "a return is explained within this distance of a surface [m]")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -70,6 +71,7 @@ const cli::Registrar reg(75, [](CLI::App& app) {
   cmd->add_option("--max-scans", args->options.max_scans, "score this many scans spread over the log (0: all)")
       ->capture_default_str();
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");
+  cli::addLogOptions(*cmd, args->read);
   cli::addUnitsOption(*cmd, args->units);
   cli::addLayersOption(*cmd, args->layers);
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing (use with --json)");
