@@ -21,6 +21,19 @@ namespace {
 
 std::string at(std::uint64_t offset) { return "byte " + std::to_string(offset); }
 
+// The fields of a Message record (channel id, sequence, log time, publish time, data); `where` is
+// the byte of the record (or of the chunk holding it).
+McapFileReader::RawMessage messageRecord(Fields& f, std::uint64_t where) {
+  McapFileReader::RawMessage m;
+  m.channel = f.u16();
+  (void)f.u32();  // sequence
+  m.log_time = f.u64();
+  m.publish_time = f.u64();
+  m.data = f.rest();
+  m.where = where;
+  return m;
+}
+
 }  // namespace
 
 const char* mcap::opName(std::uint8_t op) {
@@ -279,14 +292,7 @@ bool McapFileReader::chunkRecords(std::span<const std::uint8_t> r, std::uint64_t
     if (len > r.size() - pos - kRecordPrefix) throw Error(where + " (" + opName(op) + "): runs past the chunk", name_);
     Fields f(r.subspan(pos + kRecordPrefix, static_cast<std::size_t>(len)), name_, chunk_offset, op);
     if (op == kMessage) {
-      RawMessage m;
-      m.channel = f.u16();
-      (void)f.u32();
-      m.log_time = f.u64();
-      m.publish_time = f.u64();
-      m.data = f.rest();
-      m.where = chunk_offset;
-      if (!visit(m)) return false;
+      if (!visit(messageRecord(f, chunk_offset))) return false;
     } else if (learn && op == kSchema) {
       learn->addSchema(f);
     } else if (learn && op == kChannel) {
@@ -336,14 +342,7 @@ bool McapFileReader::readLinear(const Visit& visit, const std::function<void(std
     if (op == kSchema && learn) learn->addSchema(f);
     if (op == kChannel && learn) learn->addChannel(f);
     if (op == kMessage) {
-      RawMessage m;
-      m.channel = f.u16();
-      (void)f.u32();
-      m.log_time = f.u64();
-      m.publish_time = f.u64();
-      m.data = f.rest();
-      m.where = pos;
-      if (!visit(m)) return false;
+      if (!visit(messageRecord(f, pos))) return false;
     } else if (op == kChunk) {
       unpackChunk(rec, pos, chunk);
       if (!chunkRecords(chunk, pos, visit, learn)) return false;

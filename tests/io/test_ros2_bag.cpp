@@ -22,23 +22,8 @@ using ros2::BagWriteOptions;
 using test::McapBytes;
 using test::TempDir;
 using test::TestMessage;
-
-std::vector<TestMessage> sortedByTime(std::vector<TestMessage> v) {
-  std::stable_sort(v.begin(), v.end(),
-                   [](const TestMessage& a, const TestMessage& b) { return a.log_time < b.log_time; });
-  return v;
-}
-
-/// Error thrown by `f`, or an empty message when it does not throw.
-template <typename F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::errorOf;
+using test::sortedByTime;
 
 class McapRoundTrip : public ::testing::TestWithParam<std::tuple<BagCompression, bool>> {};
 

@@ -23,22 +23,8 @@ using ros2::BagStorage;
 using ros2::BagWriteOptions;
 using test::TempDir;
 using test::TestMessage;
-
-std::vector<TestMessage> sortedByTime(std::vector<TestMessage> v) {
-  std::stable_sort(v.begin(), v.end(),
-                   [](const TestMessage& a, const TestMessage& b) { return a.log_time < b.log_time; });
-  return v;
-}
-
-template <typename F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::errorOf;
+using test::sortedByTime;
 
 /// Runs SQL statements on a database, failing the test on an error.
 void sql(sqlite3* db, const std::string& statements) {

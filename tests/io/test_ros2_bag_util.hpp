@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "glassmap/core/error.hpp"
 #include "glassmap/io/ros2_bag.hpp"
 
 namespace glassmap::test {
@@ -133,5 +134,23 @@ class McapBytes {
     return *this;
   }
 };
+
+/// The messages in log-time order (stable: equal times keep their order).
+inline std::vector<TestMessage> sortedByTime(std::vector<TestMessage> v) {
+  std::stable_sort(v.begin(), v.end(),
+                   [](const TestMessage& a, const TestMessage& b) { return a.log_time < b.log_time; });
+  return v;
+}
+
+/// Error thrown by `f`, or an empty message when it does not throw.
+template <typename F>
+std::string errorOf(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
 
 }  // namespace glassmap::test
