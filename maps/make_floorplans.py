@@ -46,7 +46,7 @@ class Plan:
     def desk(self, x, y, w=1.6, d=0.8):
         self.poly([(x, y), (x + w, y), (x + w, y + d), (x, y + d), (x, y)], t=0.08)
 
-    def write(self, name):
+    def write(self, name, folder=None):
         feats = []
         for a, b, mat, t in self.segs:
             feats.append({"type": "Feature",
@@ -55,7 +55,7 @@ class Plan:
                                        "coordinates": [[round(a[0], 4), round(a[1], 4)],
                                                        [round(b[0], 4), round(b[1], 4)]]}})
         out = {"type": "FeatureCollection", "name": name, "features": feats}
-        path = os.path.join(HERE, name, "floorplan.geojson")
+        path = os.path.join(folder or os.path.join(HERE, name), "floorplan.geojson")
         os.makedirs(os.path.dirname(path), exist_ok=True)
         with open(path, "w") as f:
             json.dump(out, f, indent=0)
@@ -183,8 +183,40 @@ def no_glass():
     p.write("no-glass")
 
 
+def glass_room(angle_deg=25.0, folder=None):
+    """A glass meeting room (4 m x 3 m, a 0.9 m door gap, a table inside) turned angle_deg in a
+    14 m x 12 m hall with desks along its walls. The scene's trajectory circles the room at 1.6 m
+    from its panes (glass_room_waypoints), so each pane is seen near its normal and at every slant."""
+    p = Plan()
+    p.poly([(0, 0), (14, 0), (14, 12), (0, 12), (0, 0)])
+    p.desk(0.5, 0.5, 1.2, 0.6); p.desk(12.3, 10.9, 1.2, 0.6); p.desk(0.5, 10.9, 0.6, 0.6); p.desk(12.9, 0.5, 0.6, 1.2)
+    c, s_ = math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))
+
+    def at(x, y):  # room frame (centre 0, 0) -> hall
+        return (7 + c * x - s_ * y, 6 + s_ * x + c * y)
+    corners = [(-2, -1.5), (2, -1.5), (2, 1.5), (-2, 1.5)]
+    for i in range(4):
+        a, b = corners[i], corners[(i + 1) % 4]
+        if i == 0:  # the south pane has the door gap, 0.9 m at its west end
+            p.glass(at(-1.1, -1.5), at(2, -1.5))
+        else:
+            p.glass(at(*a), at(*b))
+    # A table inside: what the transmitted beams return from.
+    t = [at(-0.8, -0.4), at(0.8, -0.4), at(0.8, 0.4), at(-0.8, 0.4), at(-0.8, -0.4)]
+    p.poly(t, t=0.08)
+    p.write("glass-room", folder)
+
+
+def glass_room_waypoints(angle_deg=25.0):
+    """A loop around the glass room 1.6 m from its panes, in hall coordinates."""
+    c, s_ = math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))
+    loop = [(-3.6, -3.1), (3.6, -3.1), (3.6, 3.1), (-3.6, 3.1), (-3.6, -3.1)]
+    return [[round(7 + c * x - s_ * y, 3), round(6 + s_ * x + c * y, 3)] for x, y in loop]
+
+
 if __name__ == "__main__":
     paper_corridor()
     glass_corridor()
     office_floor()
     no_glass()
+    glass_room()

@@ -25,6 +25,8 @@ struct MapArgs {
   std::string method = "mrf";
   std::string mrf_solver = "expansion";
   std::string mrf_psi = "pane";
+  std::string no_returns = "angular";
+  std::string pane_grouping = "voting";
   int laser_id = 0;
   bool quiet = false;
   bool vectorize = true;
@@ -61,6 +63,8 @@ void run(MapArgs& args) {
   options.method = pipeline::parseMapMethod(args.method);
   options.mrf.solver = mrf::parseSolver(args.mrf_solver);
   options.mrf.psi = mrf::parsePsi(args.mrf_psi);
+  options.mapping.beams.no_return = grid::parseNoReturnMode(args.no_returns);
+  options.vectorize.glass_voting = args.pane_grouping == "voting";
   // The grid gets what the log leaves of the budget.
   const std::size_t budget = static_cast<std::size_t>(args.max_memory_mb * 1e6);
   options.mapping.max_memory_bytes = pipeline::gridMemoryBudget(budget, log);
@@ -191,7 +195,18 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_option("--no-return-range", o.beams.no_return_range,
                   "max-range and no-return readings clear free space up to this range [m]; 0: the range cap")
       ->capture_default_str();
+  cmd->add_option("--no-returns", args->no_returns,
+                  "what a reading without an echo crossed: angular (every cell up to the first one that\n"
+                  "returned beams of its direction, where it may have been a dropout: a pane met at a slant\n"
+                  "is crossed, a wall that drops echoes is not) | open (everything up to the clearing range)")
+      ->check(CLI::IsMember({"open", "angular"}))
+      ->capture_default_str();
   cmd->add_option("--miss-margin", o.beams.miss_margin, "no miss counted this close before a reading [m]")
+      ->capture_default_str();
+  cmd->add_option("--pane-grouping", args->pane_grouping,
+                  "how glass cells become panes: voting (cells vote for lines near their angle labels:\n"
+                  "finds panes seen in one cell of three) | regions (region growing over neighbouring cells)")
+      ->check(CLI::IsMember({"voting", "regions"}))
       ->capture_default_str();
   cmd->add_option("--laser-id", args->laser_id, "keep only scans of this CARMEN laser (0: all)")->capture_default_str();
   cmd->add_option("--sigmoid-margin", o.direct.sigmoid_margin, "direct: sigmoid margin delta [cells]")

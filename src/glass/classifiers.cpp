@@ -121,6 +121,7 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
   grid::forScansInParallel(log.scans.size(), progress, parts, [&](std::size_t s, Part& part) {
     grid::IntegrationStats& st = part.stats;
     grid::forEachBeam(log.scans[s], beams, [&](const grid::Beam& beam) {
+      if (beam.no_return && beams.deferNoReturns()) return;  // grid::integrateNoReturns walks them
       ++st.beams;
       const int bin = grid::angleBin(beam.angle, bins);
       const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "glassmap/core/error.hpp"
+#include "glassmap/grid/no_returns.hpp"
 
 namespace glassmap::glass {
 namespace {
@@ -62,6 +63,10 @@ MappingResult mapLog(const LaserLog& log, const MappingOptions& o,
 
   t0 = std::chrono::steady_clock::now();
   grid::AngleHistograms hist(counts, bins);
+  // No-return readings cross only what returned nothing their way (grid/no_returns.hpp); their
+  // misses go into the standard occupancy map before the direct classifier reads d_real from it.
+  if (o.beams.deferNoReturns())
+    grid::integrateNoReturns(log, o.beams, grid::returnDirections(log, o.beams, hist), counts, hist);
   SigmoidSums sums;
   if (o.method == Method::Direct) {
     sums = integrateSigmoid(log, o.beams, counts, o.occupancy, hist, o.direct, nullptr, report("angles"));

@@ -7,11 +7,21 @@
 
 namespace glassmap::grid {
 
+const char* toString(NoReturnMode mode) { return mode == NoReturnMode::Open ? "open" : "angular"; }
+
+NoReturnMode parseNoReturnMode(const std::string& name) {
+  for (NoReturnMode m : {NoReturnMode::Open, NoReturnMode::Angular})
+    if (name == toString(m)) return m;
+  throw Error("unknown no-return reading '" + name + "' (expected open or angular)", {}, 0, "no_returns");
+}
+
 GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOptions& options, double margin) {
   Eigen::AlignedBox2d box;
   for (const LaserScan& scan : log.scans) {
     box.extend(scan.laser_pose.t);
-    forEachBeam(scan, options, [&](const Beam& beam) { box.extend(beam.to); });
+    forEachBeam(scan, options, [&](const Beam& beam) {
+      if (!(beam.no_return && options.deferNoReturns())) box.extend(beam.to);
+    });
   }
   if (box.isEmpty()) throw Error("the log holds no scan to map");
   return coveringGeometry(box.min(), box.max(), resolution, margin);
@@ -36,6 +46,7 @@ IntegrationStats integratePass(const LaserLog& log, const BeamOptions& options, 
   forScansInParallel(log.scans.size(), progress, parts, [&](std::size_t s, Part<Counts>& part) {
     IntegrationStats& stats = part.stats;
     forEachBeam(log.scans[s], options, [&](const Beam& beam) {
+      if (beam.no_return && options.deferNoReturns()) return;
       const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
       const auto per_beam = prepare(beam);
       stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {

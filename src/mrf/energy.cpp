@@ -84,12 +84,7 @@ std::vector<int32_t> psiDirectionTables(PsiKind kind, int num_glass_bins) {
     for (int a = kFirstGlass; a < n; ++a) {
       const double normal = (a - kFirstGlass) * kPi / num_glass_bins;
       const double c = std::cos(edgeClassAngle(cls) - (normal + 0.5 * kPi));
-      // Half the cost in every direction (a speck of glass, or a pane's side, still pays), half by
-      // direction. Measured: all by direction keeps more sparsely hit panes (sick-lms200
-      // office-floor F1@2 0.86 against 0.70) but leaves a 0.7 m false pane on a glass-free floor
-      // seen by a noisy low-cost laser (rplidar-a2), which this share removes.
-      constexpr double kIsotropic = 0.5;
-      const double f = kIsotropic + (1.0 - kIsotropic) * c * c;
+      const double f = w.pane_isotropic + (1.0 - w.pane_isotropic) * c * c;
       set(a, kEmpty, w.glass_empty * f);
       set(a, kOccupied, w.glass_empty * f);
       for (int b = kFirstGlass; b < n; ++b)

@@ -7,6 +7,27 @@
 #include "glassmap/core/error.hpp"
 
 namespace glassmap::mrf {
+namespace {
+
+// A unary no candidate cell can afford: keeps the neutral label off every solved cell.
+constexpr int32_t kNeverCost = 1 << 28;
+
+// The table over L labels extended by a neutral label L: 0 next to itself and to glass, as EMP
+// next to EMP and OCC.
+std::vector<int32_t> withNeutralLabel(const std::vector<int32_t>& table, int L) {
+  const int n = L + 1;
+  std::vector<int32_t> out(static_cast<std::size_t>(n) * n, 0);
+  for (int a = 0; a < L; ++a)
+    for (int b = 0; b < L; ++b) out[static_cast<std::size_t>(a) * n + b] = table[static_cast<std::size_t>(a) * L + b];
+  for (int b = 0; b < L; ++b) {
+    const int32_t v = isGlass(b) ? 0 : table[static_cast<std::size_t>(kEmpty) * L + b];
+    out[static_cast<std::size_t>(L) * n + b] = v;
+    out[static_cast<std::size_t>(b) * n + L] = v;
+  }
+  return out;
+}
+
+}  // namespace
 
 RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -17,6 +38,25 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
   if (options.unary_weight <= 0) throw Error("unary weight must be positive", {}, 0, "unary_weight");
   LabelEnergy psi_only;
   setPsi(psi_only, options.psi, ev.bins);
+  // Cells no beam ended in (beams only passed through them) and unseen cells may be glass that no
+  // beam met near its normal: with unseen_glass_neutral they take an extra fixed label that costs
+  // nothing next to glass and acts as EMP next to everything else.
+  const bool neutral = options.unseen_glass_neutral;
+  const int Lx = neutral ? L + 1 : L;
+  if (neutral) {
+    psi_only.pairwise = withNeutralLabel(psi_only.pairwise, L);
+    if (!psi_only.pairwise_dir.empty()) {
+      const std::size_t nn = static_cast<std::size_t>(L) * L;
+      std::vector<int32_t> dir;
+      for (int cls = 0; cls < 4; ++cls) {
+        const std::vector<int32_t> one(psi_only.pairwise_dir.begin() + static_cast<std::ptrdiff_t>(cls * nn),
+                                       psi_only.pairwise_dir.begin() + static_cast<std::ptrdiff_t>((cls + 1) * nn));
+        const std::vector<int32_t> ext = withNeutralLabel(one, L);
+        dir.insert(dir.end(), ext.begin(), ext.end());
+      }
+      psi_only.pairwise_dir = std::move(dir);
+    }
+  }
   const auto solver = makeSolver(options.solver, options.solve);
   const std::vector<std::uint8_t> before = ev.label;
 
@@ -32,7 +72,8 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
   }
   result.active_cells = ev.cells.size();
 
-  const auto fixedLabel = [](std::uint8_t label) -> std::uint16_t {
+  const auto fixedLabel = [&](std::uint8_t label) -> std::uint16_t {
+    if (neutral && (label == kUnknown || label == kEmpty)) return static_cast<std::uint16_t>(L);
     return label == kUnknown ? static_cast<std::uint16_t>(kEmpty) : label;
   };
   LabelEnergy e;
@@ -48,11 +89,11 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
         const int x1 = std::min(W, (tx + 1) * options.tile + 1), y1 = std::min(H, (ty + 1) * options.tile + 1);
         e.width = x1 - x0;
         e.height = y1 - y0;
-        e.num_labels = L;
+        e.num_labels = Lx;
         e.pairwise = psi_only.pairwise;
         e.pairwise_dir = psi_only.pairwise_dir;
         const std::size_t n = e.cells();
-        e.unary.assign(n * static_cast<std::size_t>(L), 0);
+        e.unary.assign(n * static_cast<std::size_t>(Lx), 0);
         e.active.assign(n, 0);
         e.candidates.clear();
         labels.resize(n);
@@ -67,8 +108,11 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
           const std::size_t c = static_cast<std::size_t>(y) * e.width + x;
           const float* cost = ev.costs(i);
           for (int l = 0; l < L; ++l)
-            e.unary[c * L + l] = static_cast<int32_t>(std::lround(options.unary_weight * cost[l] * kCostScale));
+            e.unary[c * Lx + l] = static_cast<int32_t>(std::lround(options.unary_weight * cost[l] * kCostScale));
+          if (neutral) e.unary[c * Lx + L] = kNeverCost;  // the fixed cells' label only
           e.active[c] = 1;
+          const std::uint8_t own = ev.label[cell];
+          labels[c] = own == kUnknown ? static_cast<std::uint16_t>(kEmpty) : own;
         }
         restrictCandidates(e);
         const MrfResult r = solver->solve(e, labels);

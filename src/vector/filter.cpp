@@ -22,10 +22,10 @@ double labelAgreement(const Piece& p, const CellCloud& cloud, double max_angle_d
   return p.ids.empty() ? 0.0 : static_cast<double>(agree) / static_cast<double>(p.ids.size());
 }
 
-// Share of a glass piece's cells that have glass cells side_crowding_cells (2) cells away across the
-// line: about 0 for a pane (one to three cells thick), high for a strip cut out of a blob.
-double sideCrowding(const Piece& p, const CellCloud& cloud, double cells) {
-  const Vec2 off = cells * cloud.resolution * p.normal();
+// Share of a glass piece's cells that have glass cells `across` [m] away across the line: about 0
+// for a pane (one to three cells thick), high for a strip cut out of a blob.
+double sideCrowding(const Piece& p, const CellCloud& cloud, double across) {
+  const Vec2 off = across * p.normal();
   const auto glassAt = [&](const Vec2& q) {
     const int x = static_cast<int>(std::floor(q.x() / cloud.resolution - cloud.origin_cells.x()));
     const int y = static_cast<int>(std::floor(q.y() / cloud.resolution - cloud.origin_cells.y()));
@@ -38,10 +38,18 @@ double sideCrowding(const Piece& p, const CellCloud& cloud, double cells) {
   return p.ids.empty() ? 1.0 : static_cast<double>(crowded) / static_cast<double>(p.ids.size());
 }
 
+// Where to look for more glass across a pane: past the band its cells may occupy (voting takes a
+// pane's cells within max_distance and claims those within twice that), side_crowding_cells on.
+double sideCrowdingDistance(const MaterialOptions& mo, const Context& ctx) {
+  const double res = ctx.grid.resolution;
+  const double band = ctx.opt.glass_voting ? 2.0 * mo.max_distance : res;
+  return band + ctx.opt.side_crowding_cells * res;
+}
+
 }  // namespace
 
 // Drops pieces the evidence does not support: too few cells, too short, a blob, or (glass) cells
-// whose angle labels disagree with the line through them.
+// wider than a pane's band or whose angle labels disagree with the line through them.
 void filterPieces(std::vector<Piece>& pieces, Material material, const MaterialOptions& mo, const CellCloud& cloud,
                   const Context& ctx) {
   for (Piece& p : pieces) {
@@ -49,8 +57,9 @@ void filterPieces(std::vector<Piece>& pieces, Material material, const MaterialO
     const double width = std::max(cloud.resolution, p.faces_merged ? cloud.resolution : p.thickness);
     if (p.ids.size() < mo.min_cells || p.length() < mo.min_length || p.length() < mo.min_elongation * width ||
         (material == Material::Glass &&
-         (labelAgreement(p, cloud, mo.max_angle_deg) < mo.min_label_agreement ||
-          sideCrowding(p, cloud, ctx.opt.side_crowding_cells) > ctx.opt.max_side_crowding))) {
+         (p.thickness > 2.0 * mo.max_distance ||  // wider than the band a pane's cells lie in: a blob
+          labelAgreement(p, cloud, mo.max_angle_deg) < mo.min_label_agreement ||
+          sideCrowding(p, cloud, sideCrowdingDistance(mo, ctx)) > ctx.opt.max_side_crowding))) {
       p.alive = false;
       ++ctx.stats.dropped;
     }

@@ -3,6 +3,7 @@
 // the steps of vectorize(), one file each:
 //   cloud.cpp    cells of one material -> a point cloud with normals and seed scores
 //   pieces.cpp   regions -> pieces: line fits, cuts at gaps, BIC splits
+//   glass_lines.cpp  glass cells -> pieces by voting for lines (sparse panes)
 //   merge.cpp    collinear merges across gaps, wall faces -> centre lines
 //   filter.cpp   pieces the evidence does not support are dropped
 //   cleanup.cpp  one-sided walls onto their face, dominant axes, corners
@@ -61,6 +62,9 @@ CellCloud makeCloud(const LabelGrid& grid, Material material, const MaterialOpti
 void refit(Piece& p, const CellCloud& cloud, Material material, const Context& ctx);
 void piecesOfRegion(const std::vector<std::uint32_t>& region, const CellCloud& cloud, Material material,
                     const MaterialOptions& mo, const Context& ctx, std::vector<Piece>& out);
+// glass_lines.cpp
+void glassPiecesByVoting(const CellCloud& cloud, const MaterialOptions& mo, const Context& ctx,
+                         std::vector<Piece>& out);
 // merge.cpp
 void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material material, const MaterialOptions& mo,
                     const Context& ctx);

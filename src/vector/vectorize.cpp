@@ -55,14 +55,18 @@ std::vector<Piece> fitMaterial(const CellCloud& cloud, Material material, const 
                                const Context& ctx) {
   std::vector<Piece> pieces;
   if (cloud.points.empty()) return pieces;
-  detail::GrowParams gp;
-  gp.max_distance = mo.max_distance;
-  gp.max_angle_deg = mo.max_angle_deg;
-  gp.radius = mo.neighbour_radius;
-  gp.min_region = ctx.opt.min_region_cells;
-  const auto regions = detail::growRegions(cloud, gp);
-  ctx.stats.regions += regions.size();
-  for (const auto& r : regions) piecesOfRegion(r, cloud, material, mo, ctx, pieces);
+  if (material == Material::Glass && ctx.opt.glass_voting) {
+    glassPiecesByVoting(cloud, mo, ctx, pieces);
+  } else {
+    detail::GrowParams gp;
+    gp.max_distance = mo.max_distance;
+    gp.max_angle_deg = mo.max_angle_deg;
+    gp.radius = mo.neighbour_radius;
+    gp.min_region = ctx.opt.min_region_cells;
+    const auto regions = detail::growRegions(cloud, gp);
+    ctx.stats.regions += regions.size();
+    for (const auto& r : regions) piecesOfRegion(r, cloud, material, mo, ctx, pieces);
+  }
   mergeCollinear(pieces, cloud, material, mo, ctx);
   compact(pieces);
   if (material == Material::Wall) {

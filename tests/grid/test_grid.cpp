@@ -134,6 +134,7 @@ TEST(ScanIntegration, WallIsOccupiedAndFreeSpaceFree) {
   const LaserLog log = wallLog();
   BeamOptions opt;
   opt.range_cap = 8.0;
+  opt.no_return = NoReturnMode::Open;  // the classic reading: a no-return clears up to the cap
   const GridGeometry g = geometryForLog(log, 0.05, opt);
   HitMissGrid grid(g);
   const IntegrationStats st = integrateCounts(log, opt, grid);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <string>
 
 #include "glassmap/core/laser_scan.hpp"
 #include "glassmap/grid/angle_histograms.hpp"
@@ -11,26 +12,48 @@
 
 namespace glassmap::grid {
 
+/// What a reading without an echo (a no-return or max-range reading) says about the cells it
+/// crossed.
+enum class NoReturnMode {
+  /// The beam crossed every cell up to the clearing range: open space (the classic reading; a
+  /// scanner that drops a few echoes on walls then "sees through" them).
+  Open,
+  /// The beam crossed cells up to the first one that returned beams of its direction (within a bin
+  /// either side): there it may have been lost as a dropout, so nothing beyond counts. Glass, which
+  /// returns only near its normal, is still crossed by oblique no-returns; a wall with dropouts is
+  /// not (grid/no_returns.hpp).
+  Angular,
+};
+
+/// "open" / "angular".
+const char* toString(NoReturnMode mode);
+/// Parses "open" / "angular"; throws Error naming the field "no_returns" otherwise.
+NoReturnMode parseNoReturnMode(const std::string& name);
+
 /// How readings become beams.
 struct BeamOptions {
-  double range_cap = 30.0;       ///< beams are used up to this range [m]; longer returns and
-                                 ///< max-range readings clear free space up to here, with no hit
-  double min_range = 0.05;       ///< readings below this are dropped (sensor dead zone) [m]
-  bool clear_no_return = true;   ///< no-return and max-range readings clear free space (to the cap)
-  double no_return_range = 0.0;  ///< ...but only up to this range [m]; 0: range_cap (real SICK logs
-                                 ///< report glass, black and far surfaces as max range: use ~8 m)
-  double miss_margin = 0.1;      ///< a returned beam adds no miss to cells it enters within this
-                                 ///< distance before its reading [m]: grazing beams along a thin wall
-                                 ///< would otherwise clear the wall's own cells
+  double range_cap = 30.0;                         ///< beams are used up to this range [m]; longer returns and
+                                                   ///< max-range readings clear free space up to here, with no hit
+  double min_range = 0.05;                         ///< readings below this are dropped (sensor dead zone) [m]
+  bool clear_no_return = true;                     ///< no-return and max-range readings clear free space (to the cap)
+  double no_return_range = 0.0;                    ///< ...but only up to this range [m]; 0: range_cap (real SICK logs
+                                                   ///< report glass, black and far surfaces as max range: use ~8 m)
+  double miss_margin = 0.1;                        ///< a returned beam adds no miss to cells it enters within this
+                                                   ///< distance before its reading [m]: grazing beams along a thin wall
+                                                   ///< would otherwise clear the wall's own cells
+  NoReturnMode no_return = NoReturnMode::Angular;  ///< see NoReturnMode
+  /// True when the passes over returned beams skip no-return beams (a later pass walks them).
+  bool deferNoReturns() const { return clear_no_return && no_return == NoReturnMode::Angular; }
 };
 
 /// One beam as a segment in the map frame.
 struct Beam {
-  Vec2 from;           ///< laser position [m]
-  Vec2 to;             ///< end of the traversed segment [m]
-  double angle = 0.0;  ///< beam direction in the map frame [rad]
-  double range = 0.0;  ///< length of the segment [m]
-  bool hit = false;    ///< true: the beam returned at `to` (the last cell is a hit)
+  Vec2 from;               ///< laser position [m]
+  Vec2 to;                 ///< end of the traversed segment [m]
+  double angle = 0.0;      ///< beam direction in the map frame [rad]
+  double range = 0.0;      ///< length of the segment [m]
+  bool hit = false;        ///< true: the beam returned at `to` (the last cell is a hit)
+  bool no_return = false;  ///< true: a no-return or max-range reading (no echo at all)
 };
 
 /// True if a cell entered at distance `enter` [m] along a beam counts a miss (see miss_margin).
@@ -52,6 +75,7 @@ void forEachBeam(const LaserScan& scan, const BeamOptions& options, Fn&& fn) {
       beam.range = beam.hit ? static_cast<double>(r) : cap;  // beyond the cap: clear up to it
     } else {
       if (!options.clear_no_return) continue;
+      beam.no_return = true;
       const double clear = options.no_return_range > 0 ? std::min(cap, options.no_return_range) : cap;
       beam.range = scan.max_range > 0 ? std::min(clear, scan.max_range) : clear;
     }
@@ -76,6 +100,8 @@ struct IntegrationStats {
 using Progress = std::function<void(double)>;
 
 /// Pass 1: every beam adds a miss to each cell it crosses and, if it returned, a hit to its last cell.
+/// With options.deferNoReturns() the no-return beams are left to integrateNoReturns (no_returns.hpp);
+/// so are they in the per-angle passes and in geometryForLog.
 IntegrationStats integrateCounts(const LaserLog& log, const BeamOptions& options, HitMissGrid& grid,
                                  const Progress& progress = {});
 

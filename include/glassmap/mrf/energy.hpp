@@ -63,6 +63,10 @@ struct PsiWeights {
   double glass_empty = 0.6;  ///< glass next to empty (paper: 0.6)
   double glass_occ = 0.0;    ///< glass next to occupied (paper: 0, the "free buffer")
   double empty_occ = 0.0;    ///< empty next to occupied (paper: 0)
+  /// Pane Psi: the share of glass_empty charged in every direction; the rest is charged by
+  /// cos^2 of the angle between the edge and the pane, so empty space across a pane (what glass
+  /// looks like) costs nothing and only a pane's ends and gaps pay [-].
+  double pane_isotropic = 0.0;
 };
 
 /// Psi over {EMP, OCC, GLS_0..GLS_{bins-1}} from weights; symmetric, zero diagonal.

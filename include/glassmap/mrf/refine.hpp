@@ -16,7 +16,12 @@ struct RefineOptions {
   double unary_weight = 1.0;                  ///< scale of the -log posteriors against Psi [-]
   int tile = 256;                             ///< tile side [cells]; each tile is solved with its border fixed
   int sweeps = 2;                             ///< passes over all tiles (later passes see updated borders)
-  MrfOptions solve;                           ///< stopping rules per tile
+  /// Cells no beam ended in (only passed through) and unseen cells border glass at no cost: they
+  /// may be glass that no beam met near its normal (a pane hit in one cell of three leaves its
+  /// other cells looking empty), so a sparsely seen pane is not charged for its gaps. They still
+  /// count as EMP next to EMP and OCC. false: they count as EMP everywhere (the paper's grid).
+  bool unseen_glass_neutral = true;
+  MrfOptions solve;  ///< stopping rules per tile
 };
 
 /// What the refinement did.

@@ -48,6 +48,17 @@ struct VectorizeOptions {
   bool regularize = true;             ///< snap near-axis segments to the dominant axes
   double regularize_angle_deg = 3.0;  ///< ... when within this of an axis [deg]; angled glass stays
   bool walls = true;                  ///< fit walls
+  /// Glass cells are grouped into panes by voting for lines (each cell near its own angle label),
+  /// which finds panes whose cells are sparse (a narrow-lobe or coarse laser hits one pane cell in
+  /// three or four); false: region growing over neighbouring cells, as walls.
+  bool glass_voting = true;
+  /// A pane's cells are cut where a gap of empty cells is this unlikely under the pane's own
+  /// density of cells q: (1 - q)^gap < glass_gap_alpha [-]. Gaps up to glass.max_gap always join,
+  /// gaps over glass.max_bridge never.
+  double glass_gap_alpha = 0.01;
+  /// Voting keeps a pane only when its cells stand out of the glass cells around it: the background
+  /// density is counted in a band this far either side (beyond the pane's own) [m].
+  double glass_background_ring = 0.5;
   bool glass_segments = true;         ///< fit glass
   // Finer rules of the steps (defaults suit any cell size; units as stated).
   std::size_t min_region_cells = 3;           ///< region growing: smaller regions are left unassigned [cells]
@@ -61,7 +72,8 @@ struct VectorizeOptions {
                                               ///< shorter one [-] ...
   double face_max_free_fraction = 1.0 / 3.0;  ///< ... and at most this share of the band between
                                               ///< them is free space [-]
-  double side_crowding_cells = 2.0;           ///< glass: look this far across the line for more glass [cells] ...
+  double side_crowding_cells = 1.0;           ///< glass: look this far past the pane's band (voting: twice
+                                              ///< glass.max_distance; else one cell) for more glass [cells] ...
   double max_side_crowding = 0.5;             ///< ... a piece with more of its cells crowded is a strip cut out
                                               ///< of a blob, not a pane, and is dropped [-]
   double axis_window_deg = 1.0;               ///< walls within this of a direction count for it as the
