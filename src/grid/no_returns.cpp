@@ -1,36 +1,61 @@
 #include "glassmap/grid/no_returns.hpp"
 
+#include <bit>
+
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 
 namespace glassmap::grid {
 
-ReturnDirections::ReturnDirections(const AngleHistograms& h)
+NoReturnStops::NoReturnStops(const AngleHistograms& h)
     : words_(static_cast<std::size_t>((h.bins() + 63) / 64)), bits_(h.size() * words_, 0) {}
 
-void ReturnDirections::merge(const ReturnDirections& other) {
-  for (std::size_t i = 0; i < bits_.size(); ++i) bits_[i] |= other.bits_[i];
+std::size_t NoReturnStops::stopping() const {
+  std::size_t n = 0;
+  for (const std::uint64_t w : bits_) n += static_cast<std::size_t>(std::popcount(w));
+  return n;
 }
 
-ReturnDirections returnDirections(const LaserLog& log, const BeamOptions& options, const AngleHistograms& hist) {
+NoReturnStops noReturnStops(const LaserLog& log, const BeamOptions& options, const AngleHistograms& hist) {
   const GridGeometry& g = hist.geometry();
   const int bins = hist.bins();
-  tbb::enumerable_thread_specific<ReturnDirections> parts([&] { return ReturnDirections(hist); });
-  forScansInParallel(log.scans.size(), {}, parts, [&](std::size_t s, ReturnDirections& part) {
+  // Per candidate and bin: returned beams ending there (the hits half of a histogram) and
+  // no-returns crossing it (the misses half). Saturating counts, summed over threads.
+  tbb::enumerable_thread_specific<std::vector<std::uint16_t>> parts([&] { return hist.emptyCounts(); });
+  forScansInParallel(log.scans.size(), {}, parts, [&](std::size_t s, std::vector<std::uint16_t>& part) {
     forEachBeam(log.scans[s], options, [&](const Beam& beam) {
-      if (!beam.hit) return;
-      const CellIndex end = g.cellAt(beam.to);
-      if (!g.contains(end)) return;
-      const std::int32_t id = hist.find(end.x, end.y);
-      if (id != AngleHistograms::kNone) part.set(id, angleBin(beam.angle, bins));
+      const int bin = angleBin(beam.angle, bins);
+      if (beam.no_return) {
+        traverse(g, beam.from, beam.to, [&](int x, int y, double, bool) {
+          const std::int32_t id = hist.find(x, y);
+          if (id != AngleHistograms::kNone) hist.addMiss(part, id, bin);
+        });
+      } else if (beam.hit) {
+        const CellIndex end = g.cellAt(beam.to);
+        if (!g.contains(end)) return;
+        const std::int32_t id = hist.find(end.x, end.y);
+        if (id != AngleHistograms::kNone) hist.addHit(part, id, bin);
+      }
     });
   });
-  ReturnDirections out(hist);
-  for (const ReturnDirections& part : parts) out.merge(part);
-  return out;
+  std::vector<std::uint32_t> tally(hist.emptyCounts().size(), 0);
+  for (const std::vector<std::uint16_t>& part : parts)
+    for (std::size_t i = 0; i < tally.size(); ++i) tally[i] += part[i];
+  NoReturnStops stops(hist);
+  const auto n = static_cast<std::int32_t>(hist.size());
+  for (std::int32_t id = 0; id < n; ++id) {
+    const std::uint32_t* returned = &tally[static_cast<std::size_t>(id) * 2 * bins];
+    const std::uint32_t* crossing = returned + bins;
+    for (int b = 0; b < bins; ++b) {
+      const int p = (b + bins - 1) % bins, q = (b + 1) % bins;
+      const std::uint32_t r = returned[p] + returned[b] + returned[q];
+      if (r > 0 && r >= crossing[p] + crossing[b] + crossing[q]) stops.set(id, b);
+    }
+  }
+  return stops;
 }
 
-IntegrationStats integrateNoReturns(const LaserLog& log, const BeamOptions& options, const ReturnDirections& returns,
+IntegrationStats integrateNoReturns(const LaserLog& log, const BeamOptions& options, const NoReturnStops& stops,
                                     HitMissGrid& counts, AngleHistograms& hist, const Progress& progress) {
   const GridGeometry& g = counts.geometry();
   const int bins = hist.bins();
@@ -46,12 +71,10 @@ IntegrationStats integrateNoReturns(const LaserLog& log, const BeamOptions& opti
     forEachBeam(log.scans[s], options, [&](const Beam& beam) {
       if (!beam.no_return) return;
       const int bin = angleBin(beam.angle, bins);
-      const int prev = (bin + bins - 1) % bins, next = (bin + 1) % bins;
       part.stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double, bool) {
         const std::int32_t id = hist.find(x, y);
         if (id != AngleHistograms::kNone) {
-          // Returns this way: the beam may have been lost here (a dropout), nothing beyond counts.
-          if (returns.returned(id, prev) || returns.returned(id, bin) || returns.returned(id, next)) return false;
+          if (stops.stops(id, bin)) return false;  // more likely lost here than passed
           hist.addMiss(part.hist, id, bin);
         }
         part.counts.addMiss(x, y);

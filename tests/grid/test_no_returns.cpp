@@ -42,7 +42,7 @@ Passes run(const LaserLog& log, NoReturnMode mode, double cap = 8.0) {
   HitMissGrid counts(g);
   integrateCounts(log, opt, counts);
   AngleHistograms hist(counts, 36);
-  if (opt.deferNoReturns()) integrateNoReturns(log, opt, returnDirections(log, opt, hist), counts, hist);
+  if (opt.deferNoReturns()) integrateNoReturns(log, opt, noReturnStops(log, opt, hist), counts, hist);
   integrateAngles(log, opt, hist);
   return {g, std::move(counts), std::move(hist)};
 }
@@ -67,10 +67,16 @@ TEST(NoReturns, AWallThatDropsEchoesIsNotSeenThrough) {
   EXPECT_GT(angular.counts.get(before.x, before.y).misses, open.counts.get(before.x, before.y).misses / 2);
 }
 
-TEST(NoReturns, APaneMetAtASlantIsCrossed) {
-  // A pane along x = 2 returns only beams near its normal (within 3 deg); the others come back
-  // with no echo. The laser sweeps +-40 deg from two places.
+// A pane along x = 2 returns beams within 3 deg of its normal, and others with probability
+// `floor` (a sensor's floor of direct returns at any angle); the rest come back with no echo. The
+// laser sweeps +-40 deg from 20 places.
+LaserLog paneLog(double floor) {
   LaserLog log;
+  std::uint64_t state = 7;
+  auto uniform = [&state] {  // a small LCG: deterministic everywhere
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) * 0x1.0p-53;
+  };
   for (int s = 0; s < 20; ++s) {
     LaserScan scan;
     scan.max_range = 10.0;
@@ -79,24 +85,45 @@ TEST(NoReturns, APaneMetAtASlantIsCrossed) {
     scan.laser_pose = Pose2(0.0, 0.05 * s - 0.5, 0.0);
     for (int i = 0; i <= 80; ++i) {
       const double a = scan.beamAngle(i);
-      scan.ranges.push_back(std::abs(rad2deg(a)) <= 3.0 ? static_cast<float>(2.0 / std::cos(a)) : 10.0f);
+      const bool echo = std::abs(rad2deg(a)) <= 3.0 || uniform() < floor;
+      scan.ranges.push_back(echo ? static_cast<float>(2.0 / std::cos(a)) : 10.0f);
     }
     log.scans.push_back(scan);
   }
-  const Passes p = run(log, NoReturnMode::Angular);
-  // A pane cell near y = 0 was hit near the normal and missed at a slant.
-  const CellIndex pane = p.g.cellAt(Vec2(2.01, -0.3));
+  return log;
+}
+
+class PaneMetAtASlant : public ::testing::TestWithParam<double> {};
+
+// Hits within a bin of the normal and misses three bins or more off it, of the pane cell at y.
+std::pair<int, int> nearHitsAndSlantMisses(const Passes& p, double y) {
+  const CellIndex pane = p.g.cellAt(Vec2(2.01, y));
   const std::int32_t id = p.hist.find(pane.x, pane.y);
-  ASSERT_NE(id, AngleHistograms::kNone);
+  if (id == AngleHistograms::kNone) return {-1, -1};
   int hits_near = 0, misses_slant = 0;
   for (int b = 0; b < 36; ++b) {
     const int d = std::min(b, 36 - b);
     if (d <= 1) hits_near += p.hist.hits(id)[b];
     if (d >= 3) misses_slant += p.hist.misses(id)[b];
   }
-  EXPECT_GT(hits_near, 0);
-  EXPECT_GT(misses_slant, 0);
+  return {hits_near, misses_slant};
 }
+
+TEST_P(PaneMetAtASlant, IsCrossedEvenWithAFloorOfReturns) {
+  const LaserLog log = paneLog(GetParam());
+  const Passes angular = run(log, NoReturnMode::Angular), open = run(log, NoReturnMode::Open);
+  for (const double y : {-0.3, 0.0, 0.2}) {
+    const auto [hits, slant] = nearHitsAndSlantMisses(angular, y);
+    const auto [hits_open, slant_open] = nearHitsAndSlantMisses(open, y);
+    EXPECT_GT(hits, 0) << y;
+    EXPECT_EQ(hits, hits_open) << y;
+    // The pane stops only the no-returns of the directions it mostly returns (near its normal).
+    EXPECT_GT(slant, 0) << y;
+    EXPECT_GE(slant, slant_open * 3 / 4) << "floor " << GetParam() << ", y " << y;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Floors, PaneMetAtASlant, ::testing::Values(0.0, 0.05, 0.15));
 
 }  // namespace
 }  // namespace glassmap::grid
