@@ -49,16 +49,20 @@ double sideCrowdingDistance(const MaterialOptions& mo, const Context& ctx) {
 }  // namespace
 
 // Drops pieces the evidence does not support: too few cells, too short, a blob, or (glass) cells
-// wider than a pane's band or whose angle labels disagree with the line through them.
+// whose angle labels disagree with the line through them.
 void filterPieces(std::vector<Piece>& pieces, Material material, const MaterialOptions& mo, const CellCloud& cloud,
                   const Context& ctx) {
   for (Piece& p : pieces) {
     if (!p.alive) continue;
     const double width = std::max(cloud.resolution, p.faces_merged ? cloud.resolution : p.thickness);
-    if (p.ids.size() < mo.min_cells || p.length() < mo.min_length || p.length() < mo.min_elongation * width ||
+    // Glass wider than the band its cells are taken from (a pane seen at a slant by a noisy laser)
+    // must be the longer for it, by the square of the excess: a blob of one label, and two blobs
+    // in a row, are short for their width.
+    const double excess = material == Material::Glass ? std::max(1.0, width / (2.0 * mo.max_distance)) : 1.0;
+    if (p.ids.size() < mo.min_cells || p.length() < mo.min_length ||
+        p.length() < mo.min_elongation * width * excess * excess ||
         (material == Material::Glass &&
-         (p.thickness > 2.0 * mo.max_distance ||  // wider than the band a pane's cells lie in: a blob
-          labelAgreement(p, cloud, mo.max_angle_deg) < mo.min_label_agreement ||
+         (labelAgreement(p, cloud, mo.max_angle_deg) < mo.min_label_agreement ||
           sideCrowding(p, cloud, sideCrowdingDistance(mo, ctx)) > ctx.opt.max_side_crowding))) {
       p.alive = false;
       ++ctx.stats.dropped;

@@ -75,6 +75,9 @@ TEST(MrfRefine, CleansANoisyPaneAndDropsIsolatedGlass) {
       mrf::RefineOptions o;
       o.solver = solver;
       o.psi = mrf::PsiKind::Closed;  // the costs below; the pane Psi charges an isolated cell only its two ends
+      // The isolated cells here sit among cells no beam ended in: the paper's grid charges them
+      // their empty neighbours (the default leaves those neutral: a sparse pane looks the same).
+      o.unseen_glass_neutral = false;
       o.tile = 20;                   // several tiles: the pane crosses tile borders
       // Unaries weighted 3x against Psi: at weight 1 a pane cell next to a wrong-angle cell pays
       // 3 + 6 x 0.6 as glass but only 5 + 2 x 0.6 as EMP, and local moves punch holes in the pane.

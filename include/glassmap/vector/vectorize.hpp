@@ -59,6 +59,9 @@ struct VectorizeOptions {
   /// Voting keeps a pane only when its cells stand out of the glass cells around it: the background
   /// density is counted in a band this far either side (beyond the pane's own) [m].
   double glass_background_ring = 0.5;
+  /// ... and when fewer than 10^this such lines would arise by chance from that background in the
+  /// whole map (the a contrario number of false alarms; -2: one in a hundred maps) [-].
+  double glass_log10_false_alarms = -2.0;
   bool glass_segments = true;         ///< fit glass
   // Finer rules of the steps (defaults suit any cell size; units as stated).
   std::size_t min_region_cells = 3;           ///< region growing: smaller regions are left unassigned [cells]
