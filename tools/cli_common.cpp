@@ -92,11 +92,14 @@ bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) == 1; }
 std::size_t peakMemoryBytes() { return pipeline::peakMemoryBytes(); }
 
 std::string profileSummary(const SensorProfile& p) {
-  char buf[256];
+  char rel[48] = "";
+  if (p.range_sigma_rel.value > 0)
+    std::snprintf(rel, sizeof rel, " + %.2f%% of range", 100.0 * p.range_sigma_rel.value);
+  char buf[320];
   std::snprintf(buf, sizeof buf,
-                "range sigma %.3f m, hit/short/max/rand %.2f/%.2f/%.2f/%.2f; glass lobe peak %.2f sigma %.1f deg "
+                "range sigma %.3f m%s, hit/short/max/rand %.2f/%.2f/%.2f/%.2f; glass lobe peak %.2f sigma %.1f deg "
                 "floor %.3f, reflected lambda %.3f/deg floor %.2f",
-                p.range_sigma_m.value, p.w_hit.value, p.w_short.value, p.w_max.value, p.w_rand.value,
+                p.range_sigma_m.value, rel, p.w_hit.value, p.w_short.value, p.w_max.value, p.w_rand.value,
                 p.direct_peak.value, p.direct_sigma_deg.value, p.direct_floor.value, p.normal_lambda_per_deg.value,
                 p.normal_floor.value);
   return buf;

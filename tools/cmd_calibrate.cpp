@@ -68,6 +68,7 @@ void run(CalibrateArgs& a) {
                 r.fit.aligned_scans, r.fit.median_alignment_m, r.fit.median_alignment_deg);
     std::printf("%-24s %zu on walls, %zu on glass\n", "beams", profile.wall_beams, profile.glass_beams);
     line("range_sigma_m", profile.range_sigma_m, "m");
+    line("range_sigma_rel", profile.range_sigma_rel, "");
     std::printf("%-24s %10.4g m against the walls, %.4g m within scans\n", "", r.fit.range_sigma_em_m,
                 r.fit.range_sigma_local_m);
     line("w_hit", profile.w_hit, "");

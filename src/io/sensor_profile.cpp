@@ -29,6 +29,7 @@ struct Field {
 
 constexpr Field kFields[] = {
     {"range_sigma_m", &SensorProfile::range_sigma_m, 1e-5, 5.0, "m"},
+    {"range_sigma_rel", &SensorProfile::range_sigma_rel, 0.0, 0.2, ""},
     {"w_hit", &SensorProfile::w_hit, 0.0, 1.0, ""},
     {"w_short", &SensorProfile::w_short, 0.0, 1.0, ""},
     {"w_max", &SensorProfile::w_max, 0.0, 1.0, ""},
@@ -50,6 +51,7 @@ void writeSensorProfile(const fs::path& path, const SensorProfile& p) {
   out << YAML::BeginMap;
   out << YAML::Key << "source" << YAML::Value << p.source;
   out << YAML::Key << "max_range" << YAML::Value << p.max_range;
+  out << YAML::Key << "typical_range_m" << YAML::Value << p.typical_range_m;
   out << YAML::Key << "wall_beams" << YAML::Value << p.wall_beams;
   out << YAML::Key << "glass_beams" << YAML::Value << p.glass_beams;
   YAML::Node fitted(YAML::NodeType::Sequence);
@@ -111,6 +113,7 @@ SensorProfile readSensorProfile(const fs::path& path) {
       for (const Field& f : kFields)
         if (k.Scalar() == f.key) (p.*f.member).fitted = true;
   if (const YAML::Node n = doc["max_range"]) p.max_range = number(n, "max_range");
+  if (const YAML::Node n = doc["typical_range_m"]) p.typical_range_m = std::max(0.0, number(n, "typical_range_m"));
   if (const YAML::Node n = doc["source"]) p.source = n.Scalar();
   if (p.direct_floor.value > p.direct_peak.value)
     throw Error("direct_floor above direct_peak", name, line(doc["direct_floor"]), "direct_floor");

@@ -147,7 +147,7 @@ MapMethod parseMapMethod(const std::string& name) {
 bool applyProfile(MapOptions& o, const SensorProfile& p) {
   const MapOptions defaults;
   const double res = o.mapping.resolution;
-  const double sigma = p.range_sigma_m.value;
+  const double sigma = typicalRangeSigma(p);  // the noise at the ranges the log's returns have
   // A value the caller changed from its default is kept; a default follows the profile.
   bool changed = false;
   auto set = [&changed](double& field, double default_value, double from_profile) {

