@@ -9,6 +9,7 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <random>
@@ -110,6 +111,54 @@ void BM_GridRange(benchmark::State& state) {
   state.counters["cell_m"] = q.caster.cellSize();
 }
 BENCHMARK(BM_GridRange)->Unit(benchmark::kMillisecond);
+
+// castBatch (SIMD lanes, one ray each) over all 2,500 x 61 rays, 64 poses per batch; filling the
+// batch's arrays (origin and rotated beam direction per ray) is timed too. Argument: RayIsa.
+void BM_BatchRange(benchmark::State& state) {
+  const Query& q = query();
+  const auto isa = static_cast<RayIsa>(state.range(0));
+  if (!RayCaster::isaAvailable(isa)) {
+    state.SkipWithError("the CPU lacks this instruction set");
+    return;
+  }
+  constexpr int kChunk = 64;
+  std::vector<double> ox(kChunk * kBeams), oy(ox.size()), ux(ox.size()), uy(ox.size()), range(ox.size());
+  for (auto _ : state) {
+    double sum = 0.0;
+    for (int p0 = 0; p0 < kPoses; p0 += kChunk) {
+      const int n = std::min(kChunk, kPoses - p0);
+      std::size_t k = 0;
+      for (int i = p0; i < p0 + n; ++i) {
+        const Pose2& pose = q.poses[static_cast<std::size_t>(i)];
+        const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+        for (const Vec2& b : q.beam_dirs) {
+          ox[k] = pose.t.x();
+          oy[k] = pose.t.y();
+          ux[k] = c * b.x() - s * b.y();
+          uy[k] = s * b.x() + c * b.y();
+          ++k;
+        }
+      }
+      RayBatch batch;
+      batch.ox = ox.data();
+      batch.oy = oy.data();
+      batch.ux = ux.data();
+      batch.uy = uy.data();
+      batch.range = kMaxRange;
+      batch.size = k;
+      q.caster.castBatch(batch, range.data(), nullptr, isa);
+      for (std::size_t j = 0; j < k; ++j) sum += std::isinf(range[j]) ? kMaxRange : range[j];
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(state.iterations() * kPoses * kBeams);
+  state.SetLabel(RayCaster::isaName(isa));
+}
+BENCHMARK(BM_BatchRange)
+    ->Arg(static_cast<int>(RayIsa::Scalar))
+    ->Arg(static_cast<int>(RayIsa::Avx2))
+    ->Arg(static_cast<int>(RayIsa::Avx512))
+    ->Unit(benchmark::kMillisecond);
 
 // Full RayHit (segment, material, incidence angle) with precomputed beam directions.
 void BM_GridCastDir(benchmark::State& state) {
