@@ -17,7 +17,7 @@ constexpr double kNegligible = 1e-4;
 GlassModel::GlassModel(const VectorMap& map, const SensorParams& params, Variant variant)
     : caster_(map), params_(params), mix_(params), variant_(variant) {}
 
-GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& hit, double max_range) const {
+GlassModes GlassModel::weights(const RayHit& hit) const {
   GlassModes m;
   m.d_g = hit.range;
   m.theta_deg = rad2deg(hit.incidence);
@@ -31,37 +31,51 @@ GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& 
   m.w_refract = std::max(0.0, 1.0 - m.w_normal - m.w_direct);
   m.e_normal = kInf;
   m.e_refract = kInf;
-  const Vec2 p = origin + hit.range * dir;
+  return m;
+}
+
+Vec2 GlassModel::mirrored(std::int32_t pane, const Vec2& dir) const {
+  const Vec2 t = caster_.map().segments[static_cast<std::size_t>(pane)].direction();
+  return 2.0 * dir.dot(t) * t - dir;
+}
+
+GlassModel::Transmitted GlassModel::transmitted(const GlassModes&, const RayHit& hit, const Vec2& p) const {
+  // d_real: the straight ray continued through this pane (and up to max_panes - 1 more) to a
+  // wall; offset: each pane's elongation, or the fixed per-pane offset when one is set.
   const MapSegment& pane = caster_.map().segments[static_cast<std::size_t>(hit.segment)];
+  const double offset =
+      params_.offset >= 0 ? params_.offset : paneRangeElongation(pane.thickness, hit.incidence, params_.glass_index);
+  return {p, hit.range, offset, hit.segment, 1};
+}
+
+bool GlassModel::goesOn(Transmitted& t, const RayHit& next, const Vec2& dir, double& e_refract) const {
+  if (!next.hit()) return false;
+  t.travelled += next.range;
+  if (next.material == Material::Wall || t.k == params_.max_panes) {
+    e_refract = t.travelled + t.offset;
+    return false;
+  }
+  const MapSegment& s = caster_.map().segments[static_cast<std::size_t>(next.segment)];
+  t.offset += params_.offset >= 0
+                  ? params_.offset
+                  : paneRangeElongation(s.thickness, caster_.incidence(next.segment, dir), params_.glass_index);
+  t.o = t.o + next.range * dir;
+  t.skip = next.segment;
+  ++t.k;
+  return true;
+}
+
+GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& hit, double max_range) const {
+  GlassModes m = weights(hit);
+  const Vec2 p = origin + hit.range * dir;
   if (m.w_normal > kNegligible) {
     // d_o: along the ray mirrored at the pane, to the next surface of any material.
-    const Vec2 t = pane.direction();
-    const Vec2 mirrored = 2.0 * dir.dot(t) * t - dir;
-    const double d_o = caster_.castRange(p, mirrored, max_range - m.d_g, hit.segment);
+    const double d_o = caster_.castRange(p, mirrored(hit.segment, dir), max_range - m.d_g, hit.segment);
     m.e_normal = m.d_g + d_o;
   }
-  if (m.w_refract > kNegligible) {
-    // d_real: the straight ray continued through this pane (and up to max_panes - 1 more) to a
-    // wall; offset: each pane's elongation, or the fixed per-pane offset when one is set.
-    double offset =
-        params_.offset >= 0 ? params_.offset : paneRangeElongation(pane.thickness, hit.incidence, params_.glass_index);
-    Vec2 o = p;
-    double travelled = m.d_g;
-    std::int32_t skip = hit.segment;
-    for (int k = 1; k <= params_.max_panes; ++k) {
-      const RayHit next = caster_.castSurface(o, dir, max_range - travelled, skip);
-      if (!next.hit()) break;
-      travelled += next.range;
-      if (next.material == Material::Wall || k == params_.max_panes) {
-        m.e_refract = travelled + offset;
-        break;
-      }
-      const MapSegment& s = caster_.map().segments[static_cast<std::size_t>(next.segment)];
-      offset += params_.offset >= 0
-                    ? params_.offset
-                    : paneRangeElongation(s.thickness, caster_.incidence(next.segment, dir), params_.glass_index);
-      o = o + next.range * dir;
-      skip = next.segment;
+  if (m.w_refract > kNegligible && params_.max_panes >= 1) {
+    Transmitted t = transmitted(m, hit, p);
+    while (goesOn(t, caster_.castSurface(t.o, dir, max_range - t.travelled, t.skip), dir, m.e_refract)) {
     }
   }
   return m;
@@ -82,7 +96,10 @@ double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, do
   RayHit hit = caster_.castSurface(origin, dir, max_range);
   if (!hit.hit() || hit.material == Material::Wall) return mix_.probability(z, hit.range, max_range);
   hit.incidence = caster_.incidence(hit.segment, dir);
-  const GlassModes m = modes(origin, dir, hit, max_range);
+  return fromModes(modes(origin, dir, hit, max_range), z, max_range);
+}
+
+double GlassModel::fromModes(const GlassModes& m, double z, double max_range) const {
   const bool max_reading = z >= max_range;
   if (variant_ == Variant::Mixture) {
     const double sum = m.w_direct + m.w_normal + m.w_refract;  // > 0: w_normal never vanishes
@@ -109,12 +126,6 @@ double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, do
   const double p = a1 + a2 + a3 - a1 * a2 - a1 * a3 - a2 * a3;
   // Guard: the formula goes negative when two densities exceed 1; floor at the random density.
   return std::max(p, mix_.w_rand / max_range);
-}
-
-void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const {
-  sumLogProbabilitiesBatch(poses, beams, out, [&](const Pose2& T_map_laser, const Vec2& dir, double z) {
-    return probability(T_map_laser.t, dir, z, beams.max_range);
-  });
 }
 
 }  // namespace glassmap::sensor
