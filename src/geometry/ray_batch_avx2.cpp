@@ -13,10 +13,12 @@ typedef double vd __attribute__((vector_size(32)));
 typedef long vi __attribute__((vector_size(32)));
 typedef unsigned long vu __attribute__((vector_size(32)));
 
-// Spans of cells idx in the lanes of `m`; the other lanes keep `src`.
+// Spans of cells idx in the lanes of `m`; the other lanes keep `src` (four loads: faster than
+// a gather here).
 inline vi gatherSpans(const std::int64_t* base, vi idx, vi m, vi src = vi{}) {
-  return (vi)_mm256_mask_i64gather_epi64((__m256i)src, reinterpret_cast<const long long*>(base), (__m256i)idx,
-                                         (__m256i)m, 8);
+  const vi at = idx & m;  // lanes outside m read cell 0
+  const vi v = {base[at[0]], base[at[1]], base[at[2]], base[at[3]]};
+  return m ? v : src;
 }
 inline vi gatherIds(const std::int32_t* ids, vi idx) {
   return (vi)_mm256_cvtepi32_epi64(_mm256_i64gather_epi32(reinterpret_cast<const int*>(ids), (__m256i)idx, 4));
