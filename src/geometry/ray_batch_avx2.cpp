@@ -20,9 +20,8 @@ inline vi gatherSpans(const std::int64_t* base, vi idx, vi m, vi src = vi{}) {
   const vi v = {base[at[0]], base[at[1]], base[at[2]], base[at[3]]};
   return m ? v : src;
 }
-inline vi gatherIds(const std::int32_t* ids, vi idx) {
-  return (vi)_mm256_cvtepi32_epi64(_mm256_i64gather_epi32(reinterpret_cast<const int*>(ids), (__m256i)idx, 4));
-}
+// Segment ids of entries idx (scalar loads: a gather is slower here).
+inline vi gatherIds(const std::int32_t* ids, vi idx) { return vi{ids[idx[0]], ids[idx[1]], ids[idx[2]], ids[idx[3]]}; }
 // Four 32-byte segments, transposed into ax, ay, dx, dy.
 inline void loadSegs(const double* segs, vi idx, vd& ax, vd& ay, vd& dx, vd& dy) {
   const __m256d r0 = _mm256_load_pd(segs + 4 * idx[0]), r1 = _mm256_load_pd(segs + 4 * idx[1]);

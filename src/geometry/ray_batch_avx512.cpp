@@ -22,9 +22,8 @@ inline vi gatherSpans(const std::int64_t* base, vi idx, vi m, vi src = vi{}) {
   return (vi)_mm512_mask_i64gather_epi64((__m512i)src, _mm512_movepi64_mask((__m512i)m), (__m512i)idx,
                                          reinterpret_cast<const long long*>(base), 8);
 }
-inline vi gatherIds(const std::int32_t* ids, vi idx) {
-  return (vi)_mm512_cvtepi32_epi64(_mm512_i64gather_epi32((__m512i)idx, reinterpret_cast<const int*>(ids), 4));
-}
+// Segment ids of entries idx (scalar loads: a gather is slower here).
+inline vi gatherIds(const std::int32_t* ids, vi idx) { return vi{ids[idx[0]], ids[idx[1]], ids[idx[2]], ids[idx[3]], ids[idx[4]], ids[idx[5]], ids[idx[6]], ids[idx[7]]}; }
 // Eight 32-byte segments (ax, ay, dx, dy) by index, transposed into ax, ay, dx, dy: plain loads
 // and shuffles, several times faster than four gathers here.
 inline void loadSegs(const double* segs, vi idx, vd& ax, vd& ay, vd& dx, vd& dy) {
