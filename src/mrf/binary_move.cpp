@@ -9,13 +9,8 @@
 #include <utility>
 
 namespace glassmap::mrf::detail {
-namespace {
-
-using Graph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, boost::no_property,
-                                                 boost::no_property, uint32_t, uint32_t>;
-using Edge = boost::graph_traits<Graph>::edge_descriptor;
-
-}  // namespace
+using Graph = BinaryMoveSolver::Graph;
+using Edge = BinaryMoveSolver::Edge;
 
 std::vector<uint32_t> movableCells(const LabelEnergy& e) {
   std::vector<uint32_t> cells;
@@ -88,7 +83,8 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
   // Arcs sorted by source: per variable its arcs to variable neighbours, then to s and t;
   // then s -> every variable, t -> every variable. Vertices: variables 0..n-1, s = n, t = n + 1.
   const uint32_t s = n, t = n + 1;
-  std::vector<std::pair<uint32_t, uint32_t>> arcs;
+  std::vector<std::pair<uint32_t, uint32_t>>& arcs = arcs_;
+  arcs.clear();
   arcs.reserve(static_cast<std::size_t>(n) * 6);
   arc_dir_.assign(static_cast<std::size_t>(n) * 8, -1);
   tarc_.resize(n);
@@ -125,8 +121,12 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
   const uint32_t base_t = static_cast<uint32_t>(arcs.size());
   for (uint32_t k = 0; k < n; ++k) arcs.emplace_back(t, k);
 
-  std::vector<int64_t> cap(arcs.size(), 0), res(arcs.size(), 0);
-  std::vector<Edge> rev(arcs.size());
+  std::vector<int64_t>& cap = cap_;
+  std::vector<int64_t>& res = res_;
+  std::vector<Edge>& rev = rev_;
+  cap.assign(arcs.size(), 0);
+  res.assign(arcs.size(), 0);
+  rev.resize(arcs.size());
   int64_t constant = 0;
   // Pair terms (Kolmogorov & Zabih 2004): E(x_k, x_j) with A=E(0,0), B=E(0,1), C=E(1,0), D=E(1,1)
   // becomes A + (C-A) x_k + (D-C) x_j + (B+C-A-D) [x_k=0, x_j=1]; x = 0 is the source side.
@@ -173,9 +173,12 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
   }
 
   const Graph g(boost::edges_are_sorted, arcs.begin(), arcs.end(), n + 2);
-  std::vector<boost::default_color_type> color(n + 2);
-  std::vector<Edge> pred(n + 2);
-  std::vector<long> dist(n + 2);
+  std::vector<boost::default_color_type>& color = color_;
+  std::vector<Edge>& pred = pred_;
+  std::vector<long>& dist = dist_;
+  color.assign(n + 2, boost::default_color_type{});
+  pred.resize(n + 2);
+  dist.assign(n + 2, 0);
   const auto eidx = get(boost::edge_index, g);
   const auto vidx = get(boost::vertex_index, g);
   const int64_t flow = boost::boykov_kolmogorov_max_flow(

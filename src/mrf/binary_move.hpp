@@ -2,7 +2,9 @@
 /// Private: one binary graph-cut move (each variable cell keeps one of two labels), solved with
 /// Boost.Graph's boykov_kolmogorov_max_flow on a compressed_sparse_row_graph over the move's cells.
 
+#include <boost/graph/compressed_sparse_row_graph.hpp>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "glassmap/mrf/energy.hpp"
@@ -28,6 +30,10 @@ struct MoveOutcome {
 /// Reusable buffers for binary moves on one energy; sized once per solve.
 class BinaryMoveSolver {
  public:
+  using Graph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, boost::no_property,
+                                                   boost::no_property, uint32_t, uint32_t>;
+  using Edge = boost::graph_traits<Graph>::edge_descriptor;
+
   explicit BinaryMoveSolver(const LabelEnergy& e);
 
   /// Variables of the next move: cell, its label for x = 0 and for x = 1. Every other cell keeps
@@ -60,6 +66,13 @@ class BinaryMoveSolver {
   std::vector<int32_t> arc_dir_;  // variable * 8 + direction -> arc index, -1 if none
   std::vector<uint32_t> tarc_;
   std::vector<uint32_t> changed_;  // variable -> index of its arc to the source (sink follows)
+  // The move graph's buffers, kept between moves (their capacity is reused: no allocation and
+  // no fresh pages per move).
+  std::vector<std::pair<uint32_t, uint32_t>> arcs_;
+  std::vector<int64_t> cap_, res_;
+  std::vector<Edge> rev_, pred_;
+  std::vector<boost::default_color_type> color_;
+  std::vector<long> dist_;
 };
 
 }  // namespace glassmap::mrf::detail
