@@ -28,12 +28,20 @@ void BinaryMoveSolver::clear() {
   vars_.clear();
   l0_.clear();
   l1_.clear();
+  u0_.clear();
+  u1_.clear();
 }
 
 void BinaryMoveSolver::add(uint32_t cell, uint16_t label0, uint16_t label1) {
+  add(cell, label0, label1, e_.u(cell, label0), e_.u(cell, label1));
+}
+
+void BinaryMoveSolver::add(uint32_t cell, uint16_t label0, uint16_t label1, int32_t unary0, int32_t unary1) {
   vars_.push_back(cell);
   l0_.push_back(label0);
   l1_.push_back(label1);
+  u0_.push_back(unary0);
+  u1_.push_back(unary1);
 }
 
 int64_t BinaryMoveSolver::changeEnergy(const std::vector<uint16_t>& labels) const {
@@ -82,59 +90,83 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
 
   // Arcs sorted by source: per variable its arcs to variable neighbours, then to s and t;
   // then s -> every variable, t -> every variable. Vertices: variables 0..n-1, s = n, t = n + 1.
+  // They go straight into the graph's compressed rows (Boost's CSR storage, m_forward, is a
+  // public member), refilled in place so its arrays keep their capacity between moves.
   const uint32_t s = n, t = n + 1;
-  std::vector<std::pair<uint32_t, uint32_t>>& arcs = arcs_;
-  arcs.clear();
-  arcs.reserve(static_cast<std::size_t>(n) * 6);
+  Graph& g = graph_;
+  std::vector<uint32_t>& row = g.m_forward.m_rowstart;
+  std::vector<uint32_t>& col = g.m_forward.m_column;
+  row.resize(static_cast<std::size_t>(n) + 3);
+  col.resize(static_cast<std::size_t>(n) * 12);  // at most 8 neighbours + s + t, then s and t rows
+  adir_.resize(col.size());
   arc_dir_.assign(static_cast<std::size_t>(n) * 8, -1);
   tarc_.resize(n);
   th0_.assign(n, 0);
   th1_.assign(n, 0);
+  const int L = e_.num_labels;
+  const int32_t* table = e_.pairwise_dir.empty() ? e_.pairwise.data() : e_.pairwise_dir.data();
+  const std::size_t class_stride = e_.pairwise_dir.empty() ? 0 : static_cast<std::size_t>(L) * L;
+  std::ptrdiff_t offset[8];
+  for (int d = 0; d < 8; ++d) offset[d] = static_cast<std::ptrdiff_t>(kDy[d]) * w + kDx[d];
   int64_t e_cur = 0;  // current energy of every term that touches a variable, each once
+  uint32_t pos = 0;
   for (uint32_t k = 0; k < n; ++k) {
+    row[k] = pos;
     const uint32_t c = vars_[k];
-    const int x = static_cast<int>(c % w), y = static_cast<int>(c / w);
-    th0_[k] += e_.u(c, l0_[k]);
-    th1_[k] += e_.u(c, l1_[k]);
-    e_cur += e_.u(c, labels[c]);
+    const int x = static_cast<int>(c % static_cast<uint32_t>(w)), y = static_cast<int>(c / static_cast<uint32_t>(w));
+    const bool inside = x > 0 && y > 0 && x < w - 1 && y < h - 1;  // all 8 neighbours exist
+    int64_t t0 = u0_[k], t1 = u1_[k];
+    e_cur += cur_[k] ? u1_[k] : u0_[k];                                  // labels[c] is l0 or l1
+    const int32_t* psi0 = table + static_cast<std::size_t>(l0_[k]) * L;  // class 0 rows
+    const int32_t* psi1 = table + static_cast<std::size_t>(l1_[k]) * L;
     for (int d = 0; d < 8; ++d) {
-      const int nx = x + kDx[d], ny = y + kDy[d];
-      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-      const std::size_t nc = static_cast<std::size_t>(ny) * w + nx;
-      const int32_t j = node_of_[nc];
-      if (j >= 0) {
-        arc_dir_[k * 8 + d] = static_cast<int32_t>(arcs.size());
-        arcs.emplace_back(k, static_cast<uint32_t>(j));
-        if (static_cast<uint32_t>(j) > k) e_cur += e_.psi(labels[c], labels[nc], kClass[d]);
-      } else {  // fixed neighbour: its pair term is a unary of this variable
-        th0_[k] += e_.psi(l0_[k], labels[nc], kClass[d]);
-        th1_[k] += e_.psi(l1_[k], labels[nc], kClass[d]);
-        e_cur += e_.psi(labels[c], labels[nc], kClass[d]);
+      if (!inside) {
+        const int nx = x + kDx[d], ny = y + kDy[d];
+        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
       }
+      const std::size_t nc = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[d]);
+      const int32_t j = node_of_[nc];
+      const std::size_t at = kClass[d] * class_stride + labels[nc];
+      const int64_t p0 = psi0[at], p1 = psi1[at];
+      // A variable neighbour gets an arc (its pair term below); a fixed one's pair term is a
+      // unary of this variable. Selects, not branches: which neighbours are variables is data.
+      const bool var = j >= 0;
+      col[pos] = static_cast<uint32_t>(j);
+      adir_[pos] = static_cast<uint8_t>(d);
+      arc_dir_[k * 8 + d] = var ? static_cast<int32_t>(pos) : -1;
+      pos += var ? 1 : 0;
+      t0 += var ? 0 : p0;
+      t1 += var ? 0 : p1;
+      e_cur += (!var || static_cast<uint32_t>(j) > k) ? (cur_[k] ? p1 : p0) : 0;
     }
-    tarc_[k] = static_cast<uint32_t>(arcs.size());
-    arcs.emplace_back(k, s);
-    arcs.emplace_back(k, t);
+    th0_[k] = t0;
+    th1_[k] = t1;
+    tarc_[k] = pos;
+    col[pos++] = s;
+    col[pos++] = t;
   }
-  const uint32_t base_s = static_cast<uint32_t>(arcs.size());
-  for (uint32_t k = 0; k < n; ++k) arcs.emplace_back(s, k);
-  const uint32_t base_t = static_cast<uint32_t>(arcs.size());
-  for (uint32_t k = 0; k < n; ++k) arcs.emplace_back(t, k);
+  const uint32_t base_s = pos;
+  row[s] = pos;
+  for (uint32_t k = 0; k < n; ++k) col[pos++] = k;
+  const uint32_t base_t = pos;
+  row[t] = pos;
+  for (uint32_t k = 0; k < n; ++k) col[pos++] = k;
+  row[t + 1] = pos;
+  col.resize(pos);
 
   std::vector<int64_t>& cap = cap_;
   std::vector<int64_t>& res = res_;
   std::vector<Edge>& rev = rev_;
-  cap.assign(arcs.size(), 0);
-  res.assign(arcs.size(), 0);
-  rev.resize(arcs.size());
+  cap.assign(pos, 0);
+  res.assign(pos, 0);
+  rev.resize(pos);
   int64_t constant = 0;
   // Pair terms (Kolmogorov & Zabih 2004): E(x_k, x_j) with A=E(0,0), B=E(0,1), C=E(1,0), D=E(1,1)
   // becomes A + (C-A) x_k + (D-C) x_j + (B+C-A-D) [x_k=0, x_j=1]; x = 0 is the source side.
   for (uint32_t k = 0; k < n; ++k) {
-    for (int d = 0; d < 8; ++d) {
-      const int32_t a = arc_dir_[k * 8 + d];
-      if (a < 0) continue;
-      const uint32_t j = arcs[a].second;
+    for (uint32_t a = row[k]; a < tarc_[k]; ++a) {  // the arcs to variable neighbours
+      const uint32_t j = col[a];
+      const int d = adir_[a];
       rev[a] = Edge(j, static_cast<uint32_t>(arc_dir_[j * 8 + (7 - d)]));
       if (j < k) continue;  // each pair once
       const int cls = kClass[d];
@@ -172,7 +204,6 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
     rev[tarc_[k] + 1] = Edge(t, base_t + k);
   }
 
-  const Graph g(boost::edges_are_sorted, arcs.begin(), arcs.end(), n + 2);
   std::vector<boost::default_color_type>& color = color_;
   std::vector<Edge>& pred = pred_;
   std::vector<long>& dist = dist_;
