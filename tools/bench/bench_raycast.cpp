@@ -6,8 +6,8 @@
 // Environment: GLASSMAP_BENCH_MAP overrides the floorplan path (any format readFloorplan reads).
 
 #include <benchmark/benchmark.h>
-#include <tbb/global_control.h>
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
 #include <array>
@@ -164,7 +164,8 @@ void BM_BatchRange(benchmark::State& state) {
   std::vector<double> buf[5];
   for (auto _ : state) {
     double sum = 0.0;
-    for (int p0 = 0; p0 < kPoses; p0 += kBatchPoses) sum += batchPoses(q, p0, std::min(kBatchPoses, kPoses - p0), isa, buf);
+    for (int p0 = 0; p0 < kPoses; p0 += kBatchPoses)
+      sum += batchPoses(q, p0, std::min(kBatchPoses, kPoses - p0), isa, buf);
     benchmark::DoNotOptimize(sum);
   }
   state.SetItemsProcessed(state.iterations() * kPoses * kBeams);
