@@ -29,6 +29,19 @@ struct PacketRays {
   std::size_t n = 0;
 };
 
+/// castGroups' inner loop (ray_coherent.cpp): segment (ax, ay) + v (dx, dy), id seg_id, against
+/// rays [0, n) (n a multiple of the lanes: 4 or 8), updating best[k] / id[k] (nearest, ties to the
+/// lower id) with the walk's hit test.
+using TestSegmentFn = void (*)(double* best, std::int64_t* id, const double* ox, const double* oy, const double* ux,
+                               const double* uy, const std::int64_t* skip, std::size_t n, double ax, double ay,
+                               double dx, double dy, std::int64_t seg_id);
+void testSegmentAvx2(double* best, std::int64_t* id, const double* ox, const double* oy, const double* ux,
+                     const double* uy, const std::int64_t* skip, std::size_t n, double ax, double ay, double dx, double dy,
+                     std::int64_t seg_id);
+void testSegmentAvx512(double* best, std::int64_t* id, const double* ox, const double* oy, const double* ux,
+                       const double* uy, const std::int64_t* skip, std::size_t n, double ax, double ay, double dx,
+                       double dy, std::int64_t seg_id);
+
 void castPacketsAvx2(const PacketGrid& grid, const PacketRays& rays, double* out_t, std::int32_t* out_id);
 void castPacketsAvx512(const PacketGrid& grid, const PacketRays& rays, double* out_t, std::int32_t* out_id);
 

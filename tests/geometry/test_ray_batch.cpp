@@ -8,6 +8,7 @@
 #include <random>
 
 #include "geojson_segments.hpp"
+#include "glassmap/core/angles.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
 #include "ray_test_maps.hpp"
 #include "test_data.hpp"
@@ -143,4 +144,84 @@ TEST(RayBatch, SmallAndDegenerateBatches) {
   expectBatchEqualsSingleCasts(caster, odd);
   const RayCaster none(VectorMap{});
   expectBatchEqualsSingleCasts(none, odd);
+}
+
+// castGroups: coherent groups (one beam from a cloud of particles, as a particle filter casts
+// them; mirrored-like rays from points on a segment) and incoherent ones, against the single casts.
+TEST(RayBatch, GroupsEqualSingleCasts) {
+  std::mt19937 rng(31);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::size_t hits = 0, rays = 0;
+  for (int m = 0; m < 4; ++m) {
+    const VectorMap map = test::randomMap(rng, 60 + 90 * m);
+    for (double cell : {0.0, 0.37, 2.0}) {
+      const RayCaster caster(map, {cell});
+      const Eigen::AlignedBox2d box = map.bounds();
+      Batch b;
+      std::vector<std::size_t> ends;
+      for (int group = 0; group < 60; ++group) {
+        // A cloud: centre inside the bounds, spread 0.02-1 m, heading spread 0-15 deg (some
+        // groups wider than the coherent limit on purpose), 1-80 rays, one beam angle.
+        const Vec2 c(box.min().x() + u01(rng) * box.sizes().x(), box.min().y() + u01(rng) * box.sizes().y());
+        const double spread = 0.02 + u01(rng), heading = kPi * (2 * u01(rng) - 1), beam = kPi * (2 * u01(rng) - 1);
+        const double dtheta = deg2rad(group % 7 == 0 ? 40.0 : 15.0 * u01(rng));
+        const int count = 1 + static_cast<int>(rng() % 80);
+        const double max_range = group % 5 == 0 ? std::numeric_limits<double>::infinity() : 3.0 + 30.0 * u01(rng);
+        const auto skip = group % 3 == 0 && !map.segments.empty() ? static_cast<std::int32_t>(rng() % map.segments.size())
+                                                                  : -1;
+        for (int k = 0; k < count; ++k) {
+          const double a = heading + beam + dtheta * n01(rng);
+          b.add(c + spread * Vec2(n01(rng), n01(rng)), Vec2(std::cos(a), std::sin(a)), max_range, skip);
+        }
+        ends.push_back(b.ox.size());
+      }
+      for (bool per_ray : {false, true}) {
+        const RayBatch view = b.view(per_ray, true);
+        std::vector<double> range(view.size, -1.0);
+        std::vector<std::int32_t> segment(view.size, -7);
+        caster.castGroups(view, ends.data(), ends.size(), range.data(), segment.data());
+        for (std::size_t i = 0; i < view.size; ++i) {
+          const double mr = per_ray ? b.max_range[i] : 25.0;
+          const RayHit h = caster.castSurface(Vec2(b.ox[i], b.oy[i]), Vec2(b.ux[i], b.uy[i]), mr, b.skip[i]);
+          ASSERT_EQ(segment[i], h.segment) << "map " << m << " cell " << cell << " ray " << i;
+          ASSERT_EQ(std::bit_cast<std::uint64_t>(range[i]), std::bit_cast<std::uint64_t>(h.range)) << "ray " << i;
+          hits += h.hit();
+          ++rays;
+        }
+      }
+    }
+  }
+  EXPECT_GT(hits, rays / 10);  // the comparison is not vacuous
+}
+
+TEST(RayBatch, GroupsOnOfficeFloorParticleClouds) {
+  const auto path = test::sharedData("bench/office-100m.geojson");
+  GLASSMAP_REQUIRE_SHARED_DATA(path);
+  const VectorMap map = test::readGeoJsonSegments(path.string());
+  const RayCaster caster(map);
+  std::mt19937 rng(37);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  Batch b;
+  std::vector<std::size_t> ends;
+  const auto cases = test::rayCases(map, rng, 200);
+  for (const auto& c : cases) {  // a cloud of 64 particles around each case's origin, 61 beams
+    for (int beam = 0; beam < 61; beam += 6) {
+      const double a0 = std::atan2(c.dir.y(), c.dir.x()) + beam * 0.0785;
+      for (int k = 0; k < 64; ++k) {
+        const double a = a0 + deg2rad(2.0) * n01(rng);
+        b.add(c.origin + 0.1 * Vec2(n01(rng), n01(rng)), Vec2(std::cos(a), std::sin(a)), 25.0, -1);
+      }
+      ends.push_back(b.ox.size());
+    }
+  }
+  const RayBatch view = b.view(false, false);
+  std::vector<double> range(view.size);
+  std::vector<std::int32_t> segment(view.size);
+  caster.castGroups(view, ends.data(), ends.size(), range.data(), segment.data());
+  for (std::size_t i = 0; i < view.size; ++i) {
+    const RayHit h = caster.castSurface(Vec2(b.ox[i], b.oy[i]), Vec2(b.ux[i], b.uy[i]), 25.0);
+    ASSERT_EQ(segment[i], h.segment) << i;
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(range[i]), std::bit_cast<std::uint64_t>(h.range)) << i;
+  }
 }

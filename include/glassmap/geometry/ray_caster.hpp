@@ -83,6 +83,16 @@ class RayCaster {
   /// each walking its own cells; see RayIsa), bit for bit the single casts: range[i] is
   /// castRange()'s (+infinity for no hit), segment[i] (when not null) the segment id or -1.
   void castBatch(const RayBatch& rays, double* range, std::int32_t* segment = nullptr, RayIsa isa = RayIsa::Auto) const;
+  /// castBatch for rays that come in coherent groups, e.g. one beam from many nearby particles:
+  /// group g is rays [g == 0 ? 0 : group_end[g - 1], group_end[g]). A group shares one walk: its
+  /// rays lie in a thin wedge (origins within a small disc, directions within a narrow cone), the
+  /// wedge is swept slab by slab along its axis, and every segment listed in a cell the sweep
+  /// touches is tested against the group's undecided rays at once; a ray is decided when the sweep
+  /// has passed its best hit (nothing nearer can be left). The same hit test as the walk, the
+  /// nearest hit and ties to the lower id: bit for bit castBatch. Groups that are not coherent
+  /// (directions over 20 deg apart, origins outside the grid, non-finite input) go to castBatch.
+  void castGroups(const RayBatch& rays, const std::size_t* group_end, std::size_t groups, double* range,
+                  std::int32_t* segment = nullptr) const;
   /// The instruction set castBatch uses for RayIsa::Auto, and whether the CPU can run `isa`.
   static RayIsa bestIsa();
   static bool isaAvailable(RayIsa isa);
