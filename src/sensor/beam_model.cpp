@@ -17,7 +17,14 @@ VectorMap visibleMap(const VectorMap& map, GlassAs glass_as) {
 }  // namespace
 
 BeamModel::BeamModel(const VectorMap& map, const SensorParams& params)
-    : map_(map), caster_(visibleMap(map, params.glass_as)), mix_(params) {}
+    : SensorModel(params), map_(map), caster_(visibleMap(map, params.glass_as)), mix_(params) {}
+
+void BeamModel::setParams(const SensorParams& params) {
+  mix_ = Mixture(params);
+  const GlassAs glass_as = params_.glass_as;  // the caster was built for it
+  params_ = params;
+  params_.glass_as = glass_as;
+}
 
 double BeamModel::probability(const Vec2& origin, const Vec2& dir, double z, double max_range) const {
   const double e = caster_.castRange(origin, dir, max_range);  // +inf when nothing is hit

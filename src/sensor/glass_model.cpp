@@ -15,7 +15,12 @@ constexpr double kNegligible = 1e-4;
 }  // namespace
 
 GlassModel::GlassModel(const VectorMap& map, const SensorParams& params, Variant variant)
-    : caster_(map), params_(params), mix_(params), variant_(variant) {}
+    : SensorModel(params), caster_(map), mix_(params), variant_(variant) {}
+
+void GlassModel::setParams(const SensorParams& params) {
+  mix_ = Mixture(params);  // validates before anything changes
+  params_ = params;
+}
 
 GlassModes GlassModel::weights(const RayHit& hit) const {
   GlassModes m;

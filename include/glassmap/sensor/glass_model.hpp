@@ -38,6 +38,7 @@ class GlassModel final : public SensorModel {
   double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const override;
   void logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const override;
   const VectorMap& map() const override { return caster_.map(); }
+  void setParams(const SensorParams& params) override;
 
   /// The modes for a pane hit `hit` by the ray origin + s dir (casts the mirrored and continued rays).
   GlassModes modes(const Vec2& origin, const Vec2& dir, const RayHit& hit, double max_range) const;
@@ -66,7 +67,6 @@ class GlassModel final : public SensorModel {
   double fromModes(const GlassModes& m, double z, double max_range) const;
 
   RayCaster caster_;
-  SensorParams params_;
   Mixture mix_;
   Variant variant_;
 };
