@@ -31,6 +31,8 @@ void run(const EvalRaysArgs& args) {
                             {"explained_at_glass", r.at_glass},
                             {"short_of_plan", r.short_of_plan},
                             {"through_wall", r.through_wall},
+                            {"near_segment", r.near_segment},
+                            {"near_share", r.near_share},
                             {"segments", r.segments},
                             {"wall_segments", r.wall_segments},
                             {"glass_segments", r.glass_segments},
@@ -38,12 +40,16 @@ void run(const EvalRaysArgs& args) {
                             {"glass_length_m", r.glass_length}};
   if (!args.json.empty()) cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
-  auto pct = [&](std::size_t k) { return r.returns > 0 ? 100.0 * static_cast<double>(k) / static_cast<double>(r.returns) : 0.0; };
+  auto pct = [&](std::size_t k) {
+    return r.returns > 0 ? 100.0 * static_cast<double>(k) / static_cast<double>(r.returns) : 0.0;
+  };
   std::printf("returns under %.1f m in %zu scans: %zu\n", r.max_range, r.scans, r.returns);
   std::printf("  explained within %.3f m   %5.1f%% (%zu at glass)\n", r.tolerance, pct(r.explained), r.at_glass);
   std::printf("  short of the plan          %5.1f%% (clutter, people, or walls the plan misses)\n",
               pct(r.short_of_plan));
   std::printf("  through a wall             %5.1f%% (the plan or the pose is wrong there)\n", pct(r.through_wall));
+  std::printf("end point within %.3f m of a segment %5.1f%% (whatever the beam crossed first)\n", r.tolerance,
+              pct(r.near_segment));
   std::printf("plan: %zu segments (%zu wall, %.1f m; %zu glass, %.1f m)\n", r.segments, r.wall_segments, r.wall_length,
               r.glass_segments, r.glass_length);
 }
@@ -61,7 +67,8 @@ const cli::Registrar reg(75, [](CLI::App& app) {
   cmd->add_option("--plan", args->plan, "floorplan (any format glassmap reads), e.g. DIR/floorplan.gpkg")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("log", args->log, "laser log (CARMEN or ROS 2 bag) whose laser poses are in the plan's frame")->required();
+  cmd->add_option("log", args->log, "laser log (CARMEN or ROS 2 bag) whose laser poses are in the plan's frame")
+      ->required();
   cmd->add_option("--tol", args->options.tolerance, "a return is explained within this distance of a surface [m]")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
