@@ -98,7 +98,11 @@ void run(const VectorizeArgs& args) {
   r.map.name = fs::path(args.labels).parent_path().filename().string();
   const fs::path stem = outputStem(args.out);
   if (stem.has_parent_path()) fs::create_directories(stem.parent_path());
-  const auto written = vector::writeFloorplanSet(stem, r.map, formats);
+  r.extras.clutter = vector::placeOnPose(std::move(r.extras.clutter), input.origin);
+  for (DoorOpening& d : r.extras.doors) d.a = input.origin * d.a, d.b = input.origin * d.b;
+  for (RoomPolygon& room : r.extras.rooms)
+    for (Vec2& p : room.ring) p = input.origin * p;
+  const auto written = vector::writeFloorplanSet(stem, r.map, formats, r.extras);
 
   const auto& s = r.stats;
   const vector::OccupancyStats& o = input.occupancy;
@@ -119,6 +123,13 @@ void run(const VectorizeArgs& args) {
       {"corners", s.corners},
       {"dropped", s.dropped},
       {"dominant_axis_deg", s.dominant_axis_deg},
+      {"directions_deg", s.directions_deg},
+      {"lines", s.lines},
+      {"bridged", s.bridged},
+      {"openings", s.openings},
+      {"clutter_segments", r.extras.clutter.segments.size()},
+      {"doors", r.extras.doors.size()},
+      {"rooms", r.extras.rooms.size()},
       {"seconds", s.seconds}};
   if (!args.json.empty()) cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
@@ -186,6 +197,9 @@ const cli::Registrar reg(50, [](CLI::App& app) {
   cmd->add_option("--formats", args->formats, "comma-separated: gpkg,geojson,json,shp,fgb,dxf,svg,png,pdf")
       ->capture_default_str();
   cmd->add_flag("--no-regularize", args->no_regularize, "keep fitted directions (no snapping to the dominant axes)");
+  cmd->add_flag(
+      "--no-structure", [args](std::int64_t) { args->options.structure.enabled = false; },
+      "plain fit: every face of free space is a wall (no clutter layer, no bridging, no doors)");
   cmd->add_option("--corner-snap", args->options.corner_snap, "join wall ends this close to another wall [m] (0: off)")
       ->capture_default_str();
   cmd->add_option("--max-wall-thickness", args->options.max_wall_thickness,
