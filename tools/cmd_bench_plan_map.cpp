@@ -70,6 +70,9 @@ const cli::Registrar reg(81, [](CLI::App& app) {
   cmd->add_option("--resolution", o.resolution, "cell size [m]")->capture_default_str();
   cmd->add_option("--furniture-cover", o.furniture_cover, "share of the floor the added furniture covers [-]")
       ->capture_default_str();
+  cmd->add_flag(
+      "--no-plan-furniture", [args](std::int64_t) { args->options.plan_furniture = false; },
+      "leave the plan's thin outlines (the scenes' desks) out of the map");
   cmd->add_option("--bins", o.bins_per_100m2, "small obstacles (0.25-0.45 m) per 100 m^2")->capture_default_str();
   cmd->add_option("--against-wall", o.against_wall_share, "share of pieces placed against a wall [-]")
       ->capture_default_str();

@@ -4,6 +4,7 @@
 
 #include "cli_common.hpp"
 #include "glassmap/eval/consistency.hpp"
+#include "glassmap/io/floorplan_extras.hpp"
 #include "glassmap/io/log.hpp"
 
 namespace glassmap {
@@ -13,11 +14,17 @@ struct EvalRaysArgs {
   std::string plan, log, json, units, layers;
   eval::ConsistencyOptions options;
   LogReadOptions read;
-  bool quiet = false;
+  bool quiet = false, clutter = false;
 };
 
 void run(const EvalRaysArgs& args) {
-  const VectorMap plan = cli::readPlan(args.plan, args.units, args.layers, args.quiet);
+  VectorMap plan = cli::readPlan(args.plan, args.units, args.layers, args.quiet);
+  std::size_t clutter = 0;
+  if (args.clutter) {  // the plan as mapped: the building and the furniture the vectorizer kept apart
+    const FloorplanExtras extras = readFloorplanExtras(args.plan);
+    clutter = extras.clutter.segments.size();
+    plan.segments.insert(plan.segments.end(), extras.clutter.segments.begin(), extras.clutter.segments.end());
+  }
   const LaserLog log = cli::readLogReporting(args.log, args.read, args.quiet);
   const eval::ConsistencyResult r = eval::rayConsistency(log, plan, args.options);
   const nlohmann::json j = {{"plan", args.plan},
@@ -34,6 +41,7 @@ void run(const EvalRaysArgs& args) {
                             {"near_segment", r.near_segment},
                             {"near_share", r.near_share},
                             {"segments", r.segments},
+                            {"clutter_segments", clutter},
                             {"wall_segments", r.wall_segments},
                             {"glass_segments", r.glass_segments},
                             {"wall_length_m", r.wall_length},
@@ -50,8 +58,9 @@ void run(const EvalRaysArgs& args) {
   std::printf("  through a wall             %5.1f%% (the plan or the pose is wrong there)\n", pct(r.through_wall));
   std::printf("end point within %.3f m of a segment %5.1f%% (whatever the beam crossed first)\n", r.tolerance,
               pct(r.near_segment));
-  std::printf("plan: %zu segments (%zu wall, %.1f m; %zu glass, %.1f m)\n", r.segments, r.wall_segments, r.wall_length,
-              r.glass_segments, r.glass_length);
+  std::printf("plan: %zu segments (%zu wall, %.1f m; %zu glass, %.1f m)%s\n", r.segments, r.wall_segments,
+              r.wall_length, r.glass_segments, r.glass_length,
+              args.clutter ? (", " + std::to_string(clutter) + " of the walls from the clutter layer").c_str() : "");
 }
 
 const cli::Registrar reg(75, [](CLI::App& app) {
@@ -77,6 +86,8 @@ const cli::Registrar reg(75, [](CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--max-scans", args->options.max_scans, "score this many scans spread over the log (0: all)")
       ->capture_default_str();
+  cmd->add_flag("--clutter", args->clutter,
+                "score the plan with its CLUTTER layer (furniture kept apart from the walls) as walls too");
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");
   cli::addLogOptions(*cmd, args->read);
   cli::addUnitsOption(*cmd, args->units);

@@ -28,7 +28,7 @@ PLANS = {
     "angled-office": "tests/data/vector/angled-office.geojson",
 }
 BIG = {"office-100m": "../shared/data/bench/office-100m.geojson"}
-FURNITURE = {"empty": ["--furniture-cover", "0", "--bins", "0", "--structure-thickness", "0"],
+FURNITURE = {"empty": ["--furniture-cover", "0", "--bins", "0", "--no-plan-furniture"],
              "furnished": []}
 
 

@@ -55,7 +55,9 @@ std::vector<std::filesystem::path> writeMapFiles(const std::filesystem::path& di
     writeLabelRaster(staging / "labels.tif", toLabelRaster(e));
     writeLabelsPng(staging / "map.png", e.geometry.width, e.geometry.height, e.label, e.bins);
     writeSensorProfile(staging / "sensor.yaml", result.profile);
-    if (floorplan_files && result.has_floorplan) vector::writeFloorplanSet(staging / "floorplan", result.floorplan.map);
+    if (floorplan_files && result.has_floorplan)
+      vector::writeFloorplanSet(staging / "floorplan", result.floorplan.map, vector::defaultFloorplanSet(),
+                                result.floorplan.extras);
     for (const auto& entry : fs::directory_iterator(staging)) names.push_back(entry.path().filename());
   } catch (const Error& err) {
     fs::remove_all(staging, ec);

@@ -140,10 +140,31 @@ void separateClutter(std::vector<Piece> joined, const std::vector<std::size_t>& 
       if (at_a && at_b) wall[i] = 1, changed = true;
     }
   }
-  // Openings count between two walls of the building only (not between pieces of furniture).
-  out.openings.erase(std::remove_if(out.openings.begin(), out.openings.end(),
-                                    [&](const Opening& op) { return !wall[op.left] || !wall[op.right]; }),
-                     out.openings.end());
+  // Openings count between two walls of the building only (not between pieces of furniture), and
+  // not where another wall crosses the gap: a line running on across a corridor is a junction.
+  const auto crossed = [&](const Opening& op) {
+    const Vec2 u = (op.b - op.a).normalized();
+    const auto crosses = [&](const Piece& q) {
+      if (std::abs(u.dot(q.d)) > std::cos(deg2rad(ctx.opt.corner_min_angle_deg))) return false;
+      const double reach = 0.5 * q.thickness + 2 * ctx.grid.resolution;
+      const Vec2 a = op.a - reach * u, b = op.b + reach * u;
+      // Segment a..b against q's extent: the two ends on opposite sides of each other's line.
+      const Vec2 qa = q.a(), qb = q.b();
+      const auto side = [](const Vec2& o, const Vec2& d, const Vec2& p) {
+        return d.x() * (p.y() - o.y()) - d.y() * (p.x() - o.x());
+      };
+      return side(a, b - a, qa) * side(a, b - a, qb) <= 0 && side(qa, qb - qa, a) * side(qa, qb - qa, b) <= 0;
+    };
+    for (std::size_t j = 0; j < n; ++j)
+      if (wall[j] && crosses(joined[j])) return true;
+    for (const Piece& g : glass)
+      if (crosses(g)) return true;
+    return false;
+  };
+  out.openings.erase(
+      std::remove_if(out.openings.begin(), out.openings.end(),
+                     [&](const Opening& op) { return !wall[op.left] || !wall[op.right] || crossed(op); }),
+      out.openings.end());
   for (std::size_t i = 0; i < n; ++i) (wall[i] ? out.walls : out.clutter).push_back(std::move(joined[i]));
 }
 

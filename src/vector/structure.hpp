@@ -72,6 +72,11 @@ void separateClutter(std::vector<Piece> joined, const std::vector<std::size_t>& 
                      const std::vector<WallLine>& lines, const std::vector<Piece>& glass, const Components& free,
                      const Context& ctx, Structure& out);
 
+// rooms.cpp
+/// Rooms: the regions the walls, panes and openings up to door_max wide close off, inside the map.
+std::vector<RoomPolygon> segmentRooms(const std::vector<Piece>& walls, const std::vector<Piece>& glass,
+                                      const std::vector<Opening>& openings, const Context& ctx);
+
 /// The whole step.
 Structure extractStructure(std::vector<Piece> walls, const std::vector<Piece>& glass, const CellCloud& cloud,
                            const Context& ctx);

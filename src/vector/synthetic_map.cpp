@@ -261,8 +261,10 @@ SyntheticMap makeSyntheticMap(const VectorMap& plan, const SyntheticMapOptions& 
   for (const MapSegment& s : plan.segments) {
     MapSegment w = s;
     w.material = Material::Wall;
-    (s.material == Material::Glass || s.thickness >= o.structure_thickness ? out.structure : thin)
-        .segments.push_back(w);
+    if (s.material == Material::Glass || s.thickness >= o.structure_thickness)
+      out.structure.segments.push_back(w);
+    else if (o.plan_furniture)
+      thin.segments.push_back(w);
   }
   out.furniture = thin;
   const Eigen::AlignedBox2d box = plan.bounds();

@@ -112,7 +112,9 @@ VectorizeResult vectorize(const LabelGrid& grid, const VectorizeOptions& options
 
   if (options.face_align) alignOneSidedWalls(walls, wall_cloud, ctx);
   std::vector<Piece> clutter;
-  if (options.structure.enabled && !walls.empty()) {
+  std::vector<detail::Opening> openings;
+  const bool structure = options.structure.enabled && !walls.empty();
+  if (structure) {
     detail::Structure st = detail::extractStructure(std::move(walls), glass, wall_cloud, ctx);
     if (options.regularize) detail::snapToDirections(glass, st.directions, ctx);
     walls = std::move(st.walls);
@@ -125,6 +127,7 @@ VectorizeResult vectorize(const LabelGrid& grid, const VectorizeOptions& options
     stats.openings = st.openings.size();
     for (const detail::Opening& op : st.openings)
       if (op.door) result.extras.doors.push_back({op.a + grid.origin, op.b + grid.origin});
+    openings = std::move(st.openings);
   } else if (options.regularize && !walls.empty()) {
     const double axis = dominantAxis(walls, ctx);
     stats.dominant_axis_deg = rad2deg(std::fmod(axis + kPi, 0.5 * kPi));
@@ -132,6 +135,11 @@ VectorizeResult vectorize(const LabelGrid& grid, const VectorizeOptions& options
     regularize(glass, axis, ctx);
   }
   if (options.corner_snap > 0) snapCorners(glass, walls, ctx);
+  if (structure) {
+    result.extras.rooms = detail::segmentRooms(walls, glass, openings, ctx);
+    for (RoomPolygon& r : result.extras.rooms)
+      for (Vec2& p : r.ring) p += grid.origin;
+  }
 
   result.map.segments.reserve(glass.size() + walls.size());
   for (const Piece& p : glass)

@@ -36,6 +36,7 @@ struct SyntheticMapOptions {
   double margin = 1.0;                ///< grid border around the plan [m]
   double structure_thickness = 0.10;  ///< plan walls at least this thick are structure; thinner ones
                                       ///< (the scenes' desk outlines) are furniture [m]
+  bool plan_furniture = true;         ///< draw the plan's thin outlines (desks) too; false leaves them out
   double furniture_cover = 0.08;      ///< share of the floor that added furniture covers [-]
   double bins_per_100m2 = 2.0;        ///< small obstacles (bins, plants, 0.25-0.45 m) per 100 m^2
   double against_wall_share = 0.5;    ///< share of pieces placed against a wall [-]

@@ -78,15 +78,15 @@ struct VectorizeOptions {
   bool walls = true;                  ///< fit walls
   bool glass_segments = true;         ///< fit glass
   // Finer rules of the steps (defaults suit any cell size; units as stated).
-  std::size_t min_region_cells = 3;           ///< region growing: smaller regions are left unassigned [cells]
-  double short_glass_sd_cells = 3.0;          ///< a glass piece whose cells spread along it by less than this
-                                              ///< (std dev, about 10 cells of length) takes its direction from
-                                              ///< the angle labels, not the fit [cells]
-  double end_margin_cells = 0.5;              ///< a piece reaches this far past its outermost cell centres [cells]
-  double max_unseen_free_fraction = 0.2;      ///< a gap counts as unseen (bridgeable up to max_bridge) when
-                                              ///< at most this share of it was seen free [-]
-  double face_min_overlap = 0.5;              ///< wall faces merge when they overlap over this share of the
-                                              ///< shorter one [-] ...
+  std::size_t min_region_cells = 3;       ///< region growing: smaller regions are left unassigned [cells]
+  double short_glass_sd_cells = 3.0;      ///< a glass piece whose cells spread along it by less than this
+                                          ///< (std dev, about 10 cells of length) takes its direction from
+                                          ///< the angle labels, not the fit [cells]
+  double end_margin_cells = 0.5;          ///< a piece reaches this far past its outermost cell centres [cells]
+  double max_unseen_free_fraction = 0.2;  ///< a gap counts as unseen (bridgeable up to max_bridge) when
+                                          ///< at most this share of it was seen free [-]
+  double face_min_overlap = 0.5;          ///< wall faces merge when they overlap over this share of the
+      ///< longer one (a short parallel piece is furniture against the wall, not its other face) [-] ...
   double face_max_free_fraction = 1.0 / 3.0;  ///< ... and at most this share of the band between
                                               ///< them is free space [-]
   double side_crowding_cells = 2.0;           ///< glass: look this far across the line for more glass [cells] ...
