@@ -40,6 +40,8 @@ std::string unitName(double metres);
 
 /// Layer metadata of a georeferenced GPKG: "E N ROT_RAD", the map frame's origin in its CRS.
 inline constexpr const char* kMapFrameOriginKey = "GLASSMAP_MAP_FRAME_ORIGIN";
+/// A georeferenced GeoJSON of ours: its "description" is this prefix and "E N ROT_RAD".
+inline constexpr const char* kGeoJsonOriginPrefix = "glassmap floorplan: map frame origin ";
 
 /// Which extra layer of ours a feature belongs to (floorplan_extras.hpp).
 enum class ExtraLayer { None, Clutter, Door, Room };

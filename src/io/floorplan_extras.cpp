@@ -35,7 +35,12 @@ ExtraLayer extraLayerOf(bool ours, const char* ogr_layer, OGRFeature& f, const s
 
 std::optional<Pose2> mapFrameOrigin(OGRLayer& layer, const std::string& file) {
   const char* text = layer.GetMetadataItem(kMapFrameOriginKey);
-  if (!text) return std::nullopt;
+  if (!text) {  // a GeoJSON of ours: in its description
+    const char* d = layer.GetMetadataItem("DESCRIPTION");
+    const std::string prefix = kGeoJsonOriginPrefix;
+    if (!d || std::string(d).rfind(prefix, 0) != 0) return std::nullopt;
+    text = d + prefix.size();
+  }
   std::istringstream in(text);
   double e = 0, n = 0, rot = 0;
   std::string rest;

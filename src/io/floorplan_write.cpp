@@ -180,8 +180,15 @@ void writeWithGdal(const fs::path& target, const VectorMap& map, FloorplanFormat
   if (format == FloorplanFormat::FlatGeobuf) layer_options.SetNameValue("SPATIAL_INDEX", "NO");
   if (format == FloorplanFormat::GeoJson) {
     layer_options.SetNameValue("RFC7946", "NO");
-    // Read back as local metres; a georeferenced file names its CRS instead.
-    if (!georef) layer_options.SetNameValue("DESCRIPTION", io_detail::kGeoJsonMarker);
+    // Read back as local metres; a georeferenced file names its CRS and records its map frame.
+    if (!georef) {
+      layer_options.SetNameValue("DESCRIPTION", io_detail::kGeoJsonMarker);
+    } else {
+      char text[200];
+      std::snprintf(text, sizeof text, "%s%.6f %.6f %.12f", io_detail::kGeoJsonOriginPrefix, georef->origin.x(),
+                    georef->origin.y(), georef->origin.theta);
+      layer_options.SetNameValue("DESCRIPTION", text);
+    }
   }
   if (format == FloorplanFormat::Shapefile) layer_options.SetNameValue("ENCODING", "UTF-8");
   const bool mixed = extras && format == FloorplanFormat::GeoJson;  // one layer: lines and room polygons
