@@ -107,6 +107,23 @@ bool isPassage(const WallLine& l, double t0, double t1, double half_thickness, c
   return samples > 0 && 2 * both >= samples;
 }
 
+// Positions along l, strictly between t0 and t1, where a wall piece runs through the line: it
+// crosses it at corner_min_angle_deg or more with both ends at least 0.2 m off it.
+std::vector<double> crossingsOf(const WallLine& l, double t0, double t1, const std::vector<Piece>& walls) {
+  std::vector<double> out;
+  const Vec2 n = l.normal();
+  for (const Piece& q : walls) {
+    if (std::abs(q.d.dot(l.d)) > std::cos(deg2rad(30.0))) continue;
+    const double sa = n.dot(q.a()) - l.offset, sb = n.dot(q.b()) - l.offset;
+    if (sa * sb >= 0 || std::min(std::abs(sa), std::abs(sb)) < 0.2) continue;
+    const Vec2 x = q.a() + sa / (sa - sb) * (q.b() - q.a());
+    const double t = l.d.dot(x);
+    if (t > t0 && t < t1) out.push_back(t);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 }  // namespace
 
 std::vector<Piece> joinLines(const std::vector<WallLine>& lines, const std::vector<Piece>& walls,
@@ -152,46 +169,68 @@ std::vector<Piece> joinLines(const std::vector<WallLine>& lines, const std::vect
       std::vector<Seen> seen(static_cast<std::size_t>(count));
       for (int j = 0; j < count; ++j)
         seen[static_cast<std::size_t>(j)] = seenAt(l.offset * n + (cur.t1 + (j + 0.5) * gap / count) * l.d, n, ctx);
-      // Runs seen free, at least two samples long.
-      std::vector<std::pair<int, int>> free_runs;
-      for (int j = 0; j < count;) {
-        if (seen[static_cast<std::size_t>(j)] != Seen::Free) {
-          ++j;
-          continue;
-        }
-        int e = j;
-        while (e < count && seen[static_cast<std::size_t>(e)] == Seen::Free) ++e;
-        if (e - j >= 2) free_runs.push_back({j, e});
-        j = e;
+      if (count == 0) {  // less than a cell apart: one wall
+        cur.t1 = std::max(cur.t1, next.t1);
+        cur.members.insert(cur.members.end(), next.members.begin(), next.members.end());
+        continue;
       }
+      const double step = gap / count;
       const auto cost = [&](int a, int b) {
         double c = 0;
         for (int j = a; j < b; ++j) c += sampleCost(seen[static_cast<std::size_t>(j)], o);
         return c;
       };
-      const double step = count > 0 ? gap / count : 0.0;
-      if (free_runs.empty() && cost(0, count) < segment_cost) {
+      // Runs seen free in samples [a, b), at least two samples long.
+      const auto freeRuns = [&](int a, int b) {
+        std::vector<std::pair<int, int>> runs;
+        for (int j = a; j < b;) {
+          if (seen[static_cast<std::size_t>(j)] != Seen::Free) {
+            ++j;
+            continue;
+          }
+          int e = j;
+          while (e < b && seen[static_cast<std::size_t>(e)] == Seen::Free) ++e;
+          if (e - j >= 2) runs.push_back({j, e});
+          j = e;
+        }
+        return runs;
+      };
+      // Walls running through the gap (a corridor's walls where this line crosses it): the gap is a
+      // junction, never bridged; only its stretches up to the first and from the last crossing
+      // belong to this line's walls.
+      const std::vector<double> crossings = crossingsOf(l, cur.t1, next.t0, walls);
+      const int left_end =
+          crossings.empty() ? count : std::clamp(static_cast<int>((crossings.front() - cur.t1) / step), 0, count);
+      const int right_begin =
+          crossings.empty() ? count
+                            : std::clamp(static_cast<int>(std::ceil((crossings.back() - cur.t1) / step)), 0, count);
+      if (crossings.empty() && freeRuns(0, count).empty() && cost(0, count) < segment_cost) {
         cur.t1 = next.t1;
         cur.members.insert(cur.members.end(), next.members.begin(), next.members.end());
         ++out.bridged;
         continue;
       }
-      if (!free_runs.empty()) {
-        const double g0 = cur.t1;
-        const int first = free_runs.front().first, last = free_runs.back().second;
-        if (cost(0, first) < segment_cost) cur.t1 += first * step;
-        if (cost(last, count) < segment_cost) next.t0 -= (count - last) * step;
-        for (const auto& [a, b] : free_runs) {
-          const double t0 = g0 + a * step, t1 = g0 + b * step;
-          Opening op;
-          op.a = l.offset * n + t0 * l.d;
-          op.b = l.offset * n + t1 * l.d;
-          const double w = t1 - t0;
-          op.door = w >= o.door_min && w <= o.door_max && isPassage(l, t0, t1, half_thickness, ctx);
-          op.left = joined.size() + final.size() - 1;  // cur, once the line's pieces are appended
-          op.right = op.left + 1;
-          out.openings.push_back(op);
-        }
+      const double g0 = cur.t1;
+      std::vector<std::pair<int, int>> runs = freeRuns(0, left_end);
+      if (!crossings.empty())
+        for (const auto& r : freeRuns(right_begin, count)) runs.push_back(r);
+      // The walls reach on to the first opening (or crossing) and back from the last when the
+      // stretch is cheap to claim.
+      const int first = runs.empty() || runs.front().first >= left_end ? left_end : runs.front().first;
+      int last = crossings.empty() ? count : right_begin;
+      if (!runs.empty() && runs.back().second > (crossings.empty() ? 0 : right_begin)) last = runs.back().second;
+      if (cost(0, first) < segment_cost) cur.t1 = g0 + first * step;
+      if (last < count && cost(last, count) < segment_cost) next.t0 = g0 + last * step;
+      for (const auto& [a, b] : runs) {
+        const double t0 = g0 + a * step, t1 = g0 + b * step;
+        Opening op;
+        op.a = l.offset * n + t0 * l.d;
+        op.b = l.offset * n + t1 * l.d;
+        const double w = t1 - t0;
+        op.door = w >= o.door_min && w <= o.door_max && isPassage(l, t0, t1, half_thickness, ctx);
+        op.left = joined.size() + final.size() - 1;  // cur, once the line's pieces are appended
+        op.right = op.left + 1;
+        out.openings.push_back(op);
       }
       final.push_back(std::move(next));
     }
