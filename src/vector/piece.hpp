@@ -47,6 +47,12 @@ struct Context {
   double bic(double rss, double n, double segments) const {
     return n * std::log(std::max(rss / n, sigma0_sq)) + segments * opt.params_per_segment * std::log(n);
   }
+  /// Code of the cell under p (grid frame); unknown outside the grid.
+  std::uint8_t codeAt(const Vec2& p) const {
+    const int x = static_cast<int>(std::floor(p.x() / grid.resolution));
+    const int y = static_cast<int>(std::floor(p.y() / grid.resolution));
+    return x >= 0 && y >= 0 && x < grid.width && y < grid.height ? grid.code(x, y) : kCodeUnknown;
+  }
   /// True when the cell under p (grid frame) is free space.
   bool isFree(const Vec2& p) const {
     const int x = static_cast<int>(std::floor(p.x() / grid.resolution));
