@@ -131,9 +131,9 @@ void RayCaster::castGroups(const RayBatch& rays, const std::size_t* group_end, s
       const std::size_t i = first + k;
       const double x = rays.ox[i], y = rays.oy[i], ux = rays.ux[i], uy = rays.uy[i];
       const double m = rays.max_range ? rays.max_range[i] : rays.range;
-      const double norm2 = ux * ux + uy * uy;
-      ok &= std::isfinite(x + y + ux + uy) && m > 0.0 && norm2 > 1.0 - 1e-9 && norm2 < 1.0 + 1e-9 &&
-            x >= origin_.x() && x <= top_.x() && y >= origin_.y() && y <= top_.y();
+      const double norm2 = ux * ux + uy * uy, sum = x + y + ux + uy;
+      ok &= ((sum - sum) == 0.0) & (m > 0.0) & (norm2 > 1.0 - 1e-9) & (norm2 < 1.0 + 1e-9) & (x >= origin_.x()) &
+            (x <= top_.x()) & (y >= origin_.y()) & (y <= top_.y());  // finite, a unit direction, inside the grid
       g.ox[k] = x;
       g.oy[k] = y;
       g.ux[k] = ux;
@@ -156,12 +156,13 @@ void RayCaster::castGroups(const RayBatch& rays, const std::size_t* group_end, s
     }
     const double cx = sx / static_cast<double>(n), cy = sy / static_cast<double>(n);
     const double ux = su / dir_norm, uy = sv / dir_norm, nxv = -uy, nyv = ux;
-    double cos_a = 1.0, radius = 0.0;
+    double cos_a = 1.0, radius2 = 0.0;
     for (std::size_t k = 0; k < n; ++k) {
       cos_a = std::min(cos_a, g.ux[k] * ux + g.uy[k] * uy);
       const double ex = g.ox[k] - cx, ey = g.oy[k] - cy;
-      radius = std::max(radius, std::sqrt(ex * ex + ey * ey) * (1.0 + 1e-12));
+      radius2 = std::max(radius2, ex * ex + ey * ey);
     }
+    double radius = std::sqrt(radius2) * (1.0 + 1e-12);
     if (!(cos_a >= kMinCos)) {
       walkEach();
       continue;
@@ -228,8 +229,12 @@ void RayCaster::castGroups(const RayBatch& rays, const std::size_t* group_end, s
       }
       a0 = a1;
       const double reached = a1 - radius - kMargin;  // every ray is settled up to t = reached
+      double nearest = kInf;  // the nearest best hit or max range of an undecided ray
       for (std::size_t k = 0; k < n; ++k)
-        if (!g.done[k] && (g.best[k] <= reached || g.max_range[k] <= reached)) decide(k);
+        nearest = std::min(nearest, g.done[k] ? kInf : std::min(g.best[k], g.max_range[k]));
+      if (nearest <= reached)
+        for (std::size_t k = 0; k < n; ++k)
+          if (!g.done[k] && (g.best[k] <= reached || g.max_range[k] <= reached)) decide(k);
     }
     for (std::size_t k = 0; k < n; ++k)  // the sweep passed the grid or every max range
       if (!g.done[k]) decide(k);

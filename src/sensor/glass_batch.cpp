@@ -3,6 +3,7 @@
 // the beams that met a pane; then the transmitted rays that met another pane), and every
 // probability is made of the same pieces as the one-ray path (weights, mirrored, transmitted,
 // goesOn, fromModes, Mixture), so each particle's log-likelihood is bit for bit the one-pose call.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -12,7 +13,7 @@ namespace glassmap::sensor {
 namespace {
 
 constexpr double kNegligible = 1e-4;  // as in glass_model.cpp: a mode below it casts no ray
-constexpr std::size_t kBlock = 64;    // poses per round of casts
+constexpr std::size_t kBlock = 256;   // poses per round of casts (a beam of them: one coherent group)
 
 // Rays for castBatch, structure of arrays, with the results.
 struct Rays {
@@ -38,9 +39,15 @@ struct Rays {
     owner.push_back(who);
   }
   std::size_t size() const { return ox.size(); }
-  void cast(const RayCaster& caster) {
+  // Casts them in coherent groups: consecutive rays of one beam (owner / per_beam) that start on
+  // the same pane (skip).
+  void cast(const RayCaster& caster, std::size_t per_beam) {
     range.resize(size());
     segment.resize(size());
+    ends.clear();
+    for (std::size_t r = 1; r < size(); ++r)
+      if (owner[r] / per_beam != owner[r - 1] / per_beam || skip[r] != skip[r - 1]) ends.push_back(r);
+    if (size() > 0) ends.push_back(size());
     RayBatch b;
     b.ox = ox.data();
     b.oy = oy.data();
@@ -49,15 +56,18 @@ struct Rays {
     b.max_range = max_range.data();
     b.skip = skip.data();
     b.size = size();
-    caster.castBatch(b, range.data(), segment.data());
+    caster.castGroups(b, ends.data(), ends.size(), range.data(), segment.data());
   }
+  std::vector<std::size_t> ends;
 };
 
 struct Scratch {
-  std::vector<double> ox, oy, ux, uy, range, p;
+  std::vector<double> ox, oy, ux, uy, range, p, short_num;
+  std::vector<std::size_t> ends;
   std::vector<std::int32_t> segment;
   std::vector<GlassModes> modes;
   std::vector<std::uint32_t> glass;  // beams whose first surface is a pane
+  std::vector<std::uint32_t> order;  // one beam's rays that met a pane, by pane
   Rays mirror, through, next;
 };
 
@@ -69,9 +79,12 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
   const std::size_t nb = beams.size();
   const double max_range = beams.max_range;
   const auto& segments = caster_.map().segments;
+  s.short_num.resize(nb);
+  for (std::size_t i = 0; i < nb; ++i)
+    s.short_num[i] = beams.ranges[i] < max_range ? mix_.shortNumerator(beams.ranges[i]) : 0.0;
   for (std::size_t j0 = 0; j0 < poses.size(); j0 += kBlock) {
     const std::size_t n = std::min(kBlock, poses.size() - j0);
-    const std::size_t nr = n * nb;  // ray k = j * nb + i: pose j0 + j, beam i
+    const std::size_t nr = n * nb;  // ray k = i * n + j: beam i, pose j0 + j (one beam's rays together)
     s.ox.resize(nr);
     s.oy.resize(nr);
     s.ux.resize(nr);
@@ -79,18 +92,20 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
     s.range.resize(nr);
     s.segment.resize(nr);
     s.p.resize(nr);
+    s.ends.resize(nb);
     for (std::size_t j = 0; j < n; ++j) {
       const Pose2& T = poses[j0 + j];
       const Eigen::Matrix2d R = T.rotation();
       for (std::size_t i = 0; i < nb; ++i) {
         const Vec2 dir(R * beams.dirs[i]);  // as sumLogProbabilities computes it
-        const std::size_t k = j * nb + i;
+        const std::size_t k = i * n + j;
         s.ox[k] = T.t.x();
         s.oy[k] = T.t.y();
         s.ux[k] = dir.x();
         s.uy[k] = dir.y();
       }
     }
+    for (std::size_t i = 0; i < nb; ++i) s.ends[i] = (i + 1) * n;
     RayBatch first;
     first.ox = s.ox.data();
     first.oy = s.oy.data();
@@ -98,7 +113,8 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
     first.uy = s.uy.data();
     first.range = max_range;
     first.size = nr;
-    caster_.castBatch(first, s.range.data(), s.segment.data());
+    // One beam of a particle cloud: a coherent group, one sweep of the grid for all its rays.
+    caster_.castGroups(first, s.ends.data(), nb, s.range.data(), s.segment.data());
 
     // Beams that met a pane: their modes, and the mirrored and transmitted rays they need.
     s.glass.clear();
@@ -106,34 +122,45 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
     s.mirror.clear();
     s.through.clear();
     walks.clear();
-    for (std::size_t k = 0; k < nr; ++k) {
-      const std::int32_t seg = s.segment[k];
-      if (seg < 0 || segments[static_cast<std::size_t>(seg)].material == Material::Wall) continue;
-      const Vec2 o(s.ox[k], s.oy[k]), dir(s.ux[k], s.uy[k]);
-      RayHit hit;
-      hit.range = s.range[k];
-      hit.segment = seg;
-      hit.material = Material::Glass;
-      hit.incidence = caster_.incidence(seg, dir);
-      GlassModes& m = s.modes[k];
-      m = weights(hit);
-      const Vec2 p = o + hit.range * dir;
-      const auto who = static_cast<std::uint32_t>(k);
-      if (m.w_normal > kNegligible) s.mirror.add(p, mirrored(seg, dir), max_range - m.d_g, seg, who);
-      if (m.w_refract > kNegligible && params_.max_panes >= 1) {
-        walks.push_back(transmitted(m, hit, p));
-        s.through.add(walks.back().o, dir, max_range - walks.back().travelled, walks.back().skip, who);
+    for (std::size_t i = 0; i < nb; ++i) {
+      // This beam's rays that met a pane, pane by pane (the secondary rays of one pane and beam
+      // form a coherent group: origins along the pane, nearly one direction).
+      s.order.clear();
+      for (std::size_t k = i * n; k < (i + 1) * n; ++k) {
+        const std::int32_t seg = s.segment[k];
+        if (seg >= 0 && segments[static_cast<std::size_t>(seg)].material == Material::Glass)
+          s.order.push_back(static_cast<std::uint32_t>(k));
       }
-      s.glass.push_back(who);
+      std::stable_sort(s.order.begin(), s.order.end(),
+                       [&](std::uint32_t a, std::uint32_t b) { return s.segment[a] < s.segment[b]; });
+      for (const std::uint32_t k : s.order) {
+        const std::int32_t seg = s.segment[k];
+        const Vec2 o(s.ox[k], s.oy[k]), dir(s.ux[k], s.uy[k]);
+        RayHit hit;
+        hit.range = s.range[k];
+        hit.segment = seg;
+        hit.material = Material::Glass;
+        hit.incidence = caster_.incidence(seg, dir);
+        GlassModes& m = s.modes[k];
+        m = weights(hit);
+        const Vec2 p = o + hit.range * dir;
+        const auto who = static_cast<std::uint32_t>(k);
+        if (m.w_normal > kNegligible) s.mirror.add(p, mirrored(seg, dir), max_range - m.d_g, seg, who);
+        if (m.w_refract > kNegligible && params_.max_panes >= 1) {
+          walks.push_back(transmitted(m, hit, p, dir));
+          s.through.add(walks.back().o, dir, max_range - walks.back().travelled, walks.back().skip, who);
+        }
+        s.glass.push_back(who);
+      }
     }
-    s.mirror.cast(caster_);
+    s.mirror.cast(caster_, n);
     for (std::size_t r = 0; r < s.mirror.size(); ++r) {
       GlassModes& m = s.modes[s.mirror.owner[r]];
       m.e_normal = m.d_g + s.mirror.range[r];  // +inf when the mirrored ray meets nothing
     }
     // The transmitted rays, one pane further per round.
     while (s.through.size() > 0) {
-      s.through.cast(caster_);
+      s.through.cast(caster_, n);
       s.next.clear();
       going.clear();
       for (std::size_t r = 0; r < s.through.size(); ++r) {
@@ -154,18 +181,19 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
     }
 
     // Probabilities, then each pose's sum of logs exactly as sumLogProbabilities forms it.
-    for (std::size_t k = 0; k < nr; ++k) {
-      const double z = beams.ranges[k % nb];
-      const std::int32_t seg = s.segment[k];
-      s.p[k] = (seg < 0 || segments[static_cast<std::size_t>(seg)].material == Material::Wall)
-                   ? mix_.probability(z, s.range[k], max_range)
-                   : fromModes(s.modes[k], z, max_range);
+    for (std::size_t i = 0; i < nb; ++i) {
+      const double z = beams.ranges[i], short_num = s.short_num[i];
+      for (std::size_t k = i * n; k < (i + 1) * n; ++k) {
+        const std::int32_t seg = s.segment[k];
+        s.p[k] = (seg < 0 || segments[static_cast<std::size_t>(seg)].material == Material::Wall)
+                     ? mix_.probability(z, s.range[k], max_range, short_num)
+                     : fromModes(s.modes[k], z, max_range, short_num);
+      }
     }
     for (std::size_t j = 0; j < n; ++j) {
-      const double* p = &s.p[j * nb];
       double sum = 0.0, block = 1.0;
       for (std::size_t i = 0; i < nb; ++i) {
-        block *= p[i];
+        block *= s.p[i * n + j];
         if ((i & 7) == 7) {
           sum += std::log(block);
           block = 1.0;

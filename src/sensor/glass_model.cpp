@@ -44,13 +44,26 @@ Vec2 GlassModel::mirrored(std::int32_t pane, const Vec2& dir) const {
   return 2.0 * dir.dot(t) * t - dir;
 }
 
-GlassModel::Transmitted GlassModel::transmitted(const GlassModes&, const RayHit& hit, const Vec2& p) const {
+double GlassModel::elongation(std::int32_t pane, const Vec2& dir) const {
+  // paneRangeElongation (geometry/optics.hpp), t (n / cos theta_t - 1 / cos theta_i), from the
+  // cosines themselves: cos theta_i = |dir x d| / |d|, sin theta_i = |dir . d| / |d| for the
+  // pane's vector d, and Snell's sin theta_t = sin theta_i / n; no sin, asin or cos.
+  if (params_.offset >= 0) return params_.offset;
+  const MapSegment& s = caster_.map().segments[static_cast<std::size_t>(pane)];
+  if (s.thickness == 0.0) return 0.0;
+  const Vec2 d = s.b - s.a;
+  const double len = d.norm();
+  const double cos_i = std::min(1.0, std::abs(dir.x() * d.y() - dir.y() * d.x()) / len);
+  const double sin_t = std::min(1.0, std::abs(dir.dot(d)) / len) * (kAirIndex / params_.glass_index);
+  const double cos_t = std::sqrt(std::max(0.0, 1.0 - sin_t * sin_t));
+  return params_.glass_index * (s.thickness / cos_t) - s.thickness / cos_i;
+}
+
+GlassModel::Transmitted GlassModel::transmitted(const GlassModes&, const RayHit& hit, const Vec2& p,
+                                                const Vec2& dir) const {
   // d_real: the straight ray continued through this pane (and up to max_panes - 1 more) to a
   // wall; offset: each pane's elongation, or the fixed per-pane offset when one is set.
-  const MapSegment& pane = caster_.map().segments[static_cast<std::size_t>(hit.segment)];
-  const double offset =
-      params_.offset >= 0 ? params_.offset : paneRangeElongation(pane.thickness, hit.incidence, params_.glass_index);
-  return {p, hit.range, offset, hit.segment, 1};
+  return {p, hit.range, elongation(hit.segment, dir), hit.segment, 1};
 }
 
 bool GlassModel::goesOn(Transmitted& t, const RayHit& next, const Vec2& dir, double& e_refract) const {
@@ -60,10 +73,7 @@ bool GlassModel::goesOn(Transmitted& t, const RayHit& next, const Vec2& dir, dou
     e_refract = t.travelled + t.offset;
     return false;
   }
-  const MapSegment& s = caster_.map().segments[static_cast<std::size_t>(next.segment)];
-  t.offset += params_.offset >= 0
-                  ? params_.offset
-                  : paneRangeElongation(s.thickness, caster_.incidence(next.segment, dir), params_.glass_index);
+  t.offset += elongation(next.segment, dir);
   t.o = t.o + next.range * dir;
   t.skip = next.segment;
   ++t.k;
@@ -79,7 +89,7 @@ GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& 
     m.e_normal = m.d_g + d_o;
   }
   if (m.w_refract > kNegligible && params_.max_panes >= 1) {
-    Transmitted t = transmitted(m, hit, p);
+    Transmitted t = transmitted(m, hit, p, dir);
     while (goesOn(t, caster_.castSurface(t.o, dir, max_range - t.travelled, t.skip), dir, m.e_refract)) {
     }
   }
@@ -105,6 +115,10 @@ double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, do
 }
 
 double GlassModel::fromModes(const GlassModes& m, double z, double max_range) const {
+  return fromModes(m, z, max_range, z < max_range ? mix_.shortNumerator(z) : 0.0);
+}
+
+double GlassModel::fromModes(const GlassModes& m, double z, double max_range, double short_numerator) const {
   const bool max_reading = z >= max_range;
   if (variant_ == Variant::Mixture) {
     const double sum = m.w_direct + m.w_normal + m.w_refract;  // > 0: w_normal never vanishes
@@ -118,7 +132,8 @@ double GlassModel::fromModes(const GlassModes& m, double z, double max_range) co
       const double hit_density = wd * mix_.hitDensity(z, m.d_g, max_range) +
                                  wn * mix_.hitDensity(z, m.e_normal, max_range) +
                                  wr * mix_.hitDensity(z, m.e_refract, max_range);
-      p = mix_.w_hit * hit_density + mix_.w_short * mix_.shortDensity(z, m.d_g, max_range) + mix_.w_rand / max_range;
+      p = mix_.w_hit * hit_density + mix_.w_short * mix_.shortDensity(z, m.d_g, max_range, short_numerator) +
+          mix_.w_rand / max_range;
     }
     return p;
   }

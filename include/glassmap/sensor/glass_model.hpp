@@ -58,13 +58,16 @@ class GlassModel final : public SensorModel {
     std::int32_t skip;
     int k;  ///< number of the next cast, 1..max_panes
   };
-  Transmitted transmitted(const GlassModes& m, const RayHit& hit, const Vec2& p) const;
+  Transmitted transmitted(const GlassModes& m, const RayHit& hit, const Vec2& p, const Vec2& dir) const;
+  /// Range elongation [m] of the ray along `dir` through pane `pane` (or the fixed offset).
+  double elongation(std::int32_t pane, const Vec2& dir) const;
   /// Takes the transmitted ray's cast `next` (range, segment, material) along `dir`; true when the
   /// ray goes on through another pane (t updated), false when it ends (e_refract set if it met a
   /// wall or its last pane, left +inf if it met nothing).
   bool goesOn(Transmitted& t, const RayHit& next, const Vec2& dir, double& e_refract) const;
-  /// p(z) of a beam whose first surface is a pane, from its modes.
+  /// p(z) of a beam whose first surface is a pane, from its modes (short_numerator: Mixture::shortNumerator(z)).
   double fromModes(const GlassModes& m, double z, double max_range) const;
+  double fromModes(const GlassModes& m, double z, double max_range, double short_numerator) const;
 
   RayCaster caster_;
   Mixture mix_;
