@@ -78,10 +78,11 @@ LocalizeResult localizeLog(const LaserLog& log, sensor::SensorModel& model, cons
       if (options.self_calibration.enabled && filter.converged() &&
           filter.spread() < options.self_calibration.trust_spread &&
           filter.contradiction() <= options.filter.contradiction_share) {
-        calibrator.add(k, est_at_update, std::abs(delta.trans));
+        calibrator.add(k, est_at_update, filter.spread(), odom, std::abs(delta.trans), result.updates);
         if (calibrator.due()) {
-          SelfCalibrationFit fit = calibrator.fit(log, model.params());
+          SelfCalibrationFit fit = calibrator.fit(log, model.params(), filter.motionNoise());
           if (fit.applied) model.setParams(fit.params);
+          if (fit.motion_windows > 0) filter.setMotionNoise(fit.noise);
           result.calibrations.push_back(std::move(fit));
         }
       }

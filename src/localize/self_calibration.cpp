@@ -28,15 +28,55 @@ SensorProfile profileFromParams(const sensor::SensorParams& p) {
 SelfCalibrator::SelfCalibrator(const VectorMap& map, SelfCalibrationOptions options)
     : map_(map), opt_(options), next_fit_m_(options.first_after_m) {}
 
-void SelfCalibrator::add(std::size_t index, const Pose2& estimate, double step_m) {
+void SelfCalibrator::add(std::size_t index, const Pose2& estimate, double spread, const Pose2& odometry,
+                         double step_m, std::size_t update) {
+  spread_.push_back(spread);
   scans_.push_back(index);
   poses_.push_back(estimate);
+  odometry_.push_back(odometry);
+  updates_.push_back(update);
   trusted_m_ += step_m;
+  along_.push_back(trusted_m_);
+}
+
+std::size_t SelfCalibrator::fitMotion(OdometryNoise& noise) const {
+  // Windows of consecutive trusted updates spanning about motion_window_m: the estimate's motion
+  // against the odometry's, in the frame of the window's start.
+  std::vector<double> along, heading;
+  std::size_t i = 0;
+  while (i + 1 < scans_.size()) {
+    std::size_t j = i + 1;
+    while (j < scans_.size() && updates_[j] == updates_[j - 1] + 1 && along_[j] - along_[i] < opt_.motion_window_m) ++j;
+    if (j >= scans_.size() || updates_[j] != updates_[j - 1] + 1) {
+      i = j;
+      continue;
+    }
+    const double length = along_[j] - along_[i];
+    if (length <= 3.0 * opt_.motion_window_m) {
+      const Pose2 e = odometry_[i].between(odometry_[j]).inverse() * poses_[i].between(poses_[j]);
+      // The estimates' own uncertainty (the clouds' spread along one axis) is not odometry error.
+      const double own = 0.5 * (spread_[i] * spread_[i] + spread_[j] * spread_[j]);
+      along.push_back((e.x() * e.x() - own) / length);
+      heading.push_back(e.theta * e.theta / length);
+    }
+    i = j;
+  }
+  if (along.size() < opt_.min_windows) return 0;
+  // The median of a squared normal is 0.455 of its variance; per metre of the window.
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  const OdometryNoise defaults;
+  noise.walk_trans = std::max(defaults.walk_trans, median(along) / 0.455);
+  noise.walk_heading = std::max(defaults.walk_heading, median(heading) / 0.455);
+  return along.size();
 }
 
 bool SelfCalibrator::due() const { return opt_.enabled && !scans_.empty() && trusted_m_ >= next_fit_m_; }
 
-SelfCalibrationFit SelfCalibrator::fit(const LaserLog& log, const sensor::SensorParams& current) {
+SelfCalibrationFit SelfCalibrator::fit(const LaserLog& log, const sensor::SensorParams& current,
+                                       const OdometryNoise& noise) {
   next_fit_m_ = std::max(trusted_m_, next_fit_m_) * std::max(opt_.growth, 1.01);
   // The trusted scans, evenly spread, at the filter's estimates.
   LaserLog sub;
@@ -61,6 +101,8 @@ SelfCalibrationFit SelfCalibrator::fit(const LaserLog& log, const sensor::Sensor
   fit.params.sigma_hit = std::min(fit.params.sigma_hit, opt_.max_sigma_hit);
   const double sum = fit.params.z_hit + fit.params.z_short + fit.params.z_max + fit.params.z_rand;
   fit.applied = sum > 0 && fit.params.z_hit / sum >= opt_.min_hit_weight;
+  fit.noise = noise;
+  if (opt_.motion && fit.applied) fit.motion_windows = fitMotion(fit.noise);
   return fit;
 }
 

@@ -233,8 +233,10 @@ nlohmann::json localizeSummaryJson(const LocalizeResult& result, const LocalizeO
   for (const localize::SelfCalibrationFit& f : r.calibrations)
     calibrations.push_back({{"time_s", f.time},
                             {"scans", f.scans},
-                            {"trusted_m", f.trusted_m},
-                            {"applied", f.applied},
+                            {"trusted_m", f.trusted_m},                            {"applied", f.applied},
+                            {"motion_windows", f.motion_windows},
+                            {"odometry_walk_trans_m2_per_m", f.noise.walk_trans},
+                            {"odometry_walk_heading_rad2_per_m", f.noise.walk_heading},
                             {"params", sensorParamsJson(f.params)}});
   return {{"model", result.model},
           {"glass_as", sensor::toString(options.sensor.glass_as)},

@@ -156,9 +156,11 @@ class ParticleFilter {
   /// Probes started so far.
   std::size_t probes() const { return probes_; }
   /// Smoothed share of readings at the best particle that run through a wall unexplained [-].
-  double contradiction() const { return contradiction_; }
-  /// A random pose in free space.
+  double contradiction() const { return contradiction_; }  /// A random pose in free space.
   Pose2 randomFreePose();
+  /// The motion model's noise, and a new one (self-calibration).
+  const OdometryNoise& motionNoise() const { return opt_.noise; }
+  void setMotionNoise(const OdometryNoise& noise) { opt_.noise = noise; }
   /// Public for tests: the centres random particles are drawn around.
   const std::vector<Vec2>& freeCells() const { return free_cells_; }
 
