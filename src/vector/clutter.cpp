@@ -179,7 +179,24 @@ Structure extractStructure(std::vector<Piece> walls, const std::vector<Piece>& g
   std::vector<Piece> joined = joinLines(lines, walls, cloud, ctx, line_of, out);
   std::vector<std::uint8_t> is_free(ctx.grid.cells());
   for (std::size_t i = 0; i < is_free.size(); ++i) is_free[i] = ctx.grid.codes[i] == kCodeEmpty;
-  const Components free = connectedComponents(ctx.grid.width, ctx.grid.height, is_free);
+  Components free = connectedComponents(ctx.grid.width, ctx.grid.height, is_free);
+  // Only a pocket sealed by what was hit all round is the inside of a drawn outline; one that
+  // touches unknown cells is free space not seen whole (real maps have many). Unsealed pockets
+  // count as large.
+  const int w = ctx.grid.width, h = ctx.grid.height;
+  std::vector<char> sealed(free.count(), 1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::int32_t k = free.label[static_cast<std::size_t>(y) * w + x];
+      if (k < 0) continue;
+      for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+        const int nx = x + dx, ny = y + dy;
+        if (nx < 0 || ny < 0 || nx >= w || ny >= h || ctx.grid.code(nx, ny) == kCodeUnknown)
+          sealed[static_cast<std::size_t>(k)] = 0;
+      }
+    }
+  for (std::size_t k = 0; k < free.count(); ++k)
+    if (!sealed[k]) free.sizes[k] = std::numeric_limits<std::size_t>::max();
   separateClutter(std::move(joined), line_of, lines, glass, free, ctx, out);
   return out;
 }
