@@ -88,7 +88,7 @@ bool facesPocket(const Piece& p, const Components& free, double min_cells, const
 
 void separateClutter(std::vector<Piece> joined, const std::vector<std::size_t>& line_of,
                      const std::vector<WallLine>& lines, const std::vector<Piece>& glass, const Components& free,
-                     const Context& ctx, Structure& out) {
+                     const std::vector<Piece>& fitted, const Context& ctx, Structure& out) {
   const StructureOptions& o = ctx.opt.structure;
   const std::size_t n = joined.size();
   const double pocket_cells = o.min_room_area / (ctx.grid.resolution * ctx.grid.resolution);
@@ -165,18 +165,27 @@ void separateClutter(std::vector<Piece> joined, const std::vector<std::size_t>& 
       std::remove_if(out.openings.begin(), out.openings.end(),
                      [&](const Opening& op) { return !wall[op.left] || !wall[op.right] || crossed(op); }),
       out.openings.end());
-  for (std::size_t i = 0; i < n; ++i) (wall[i] ? out.walls : out.clutter).push_back(std::move(joined[i]));
+  // Walls as joined; clutter as it was fitted (furniture is not aligned with the building: no
+  // snapping to its directions, no joining along its lines).
+  for (std::size_t i = 0; i < n; ++i) {
+    if (wall[i]) {
+      out.walls.push_back(std::move(joined[i]));
+      continue;
+    }
+    for (const std::uint32_t k : joined[i].parts) out.clutter.push_back(fitted[k]);
+  }
 }
 
 Structure extractStructure(std::vector<Piece> walls, const std::vector<Piece>& glass, const CellCloud& cloud,
                            const Context& ctx) {
   Structure out;
   out.directions = dominantDirections(walls, glass, ctx);
+  const std::vector<Piece> fitted = walls;
   const std::vector<int> which = snapToDirections(walls, out.directions, ctx);
   for (const int w : which) out.snapped += w >= 0;
   const std::vector<WallLine> lines = groupLines(walls, which, out.directions, ctx);
   std::vector<std::size_t> line_of;
-  std::vector<Piece> joined = joinLines(lines, walls, cloud, ctx, line_of, out);
+  std::vector<Piece> joined = joinLines(lines, walls, glass, cloud, ctx, line_of, out);
   std::vector<std::uint8_t> is_free(ctx.grid.cells());
   for (std::size_t i = 0; i < is_free.size(); ++i) is_free[i] = ctx.grid.codes[i] == kCodeEmpty;
   Components free = connectedComponents(ctx.grid.width, ctx.grid.height, is_free);
@@ -197,7 +206,7 @@ Structure extractStructure(std::vector<Piece> walls, const std::vector<Piece>& g
     }
   for (std::size_t k = 0; k < free.count(); ++k)
     if (!sealed[k]) free.sizes[k] = std::numeric_limits<std::size_t>::max();
-  separateClutter(std::move(joined), line_of, lines, glass, free, ctx, out);
+  separateClutter(std::move(joined), line_of, lines, glass, free, fitted, ctx, out);
   return out;
 }
 
