@@ -22,7 +22,7 @@ struct PlanMapArgs {
 
 void run(PlanMapArgs args) {
   args.options.convention = vector::parseMapConvention(args.convention, "--convention");
-  const VectorMap plan = cli::readPlan(args.plan, "", "", args.quiet);
+  const VectorMap plan = cli::readPlan(args.plan, "", "", args.quiet, nullptr, /*clutter=*/false);
   const vector::SyntheticMap m = vector::makeSyntheticMap(plan, args.options);
   OccupancyGridMap occ;
   occ.width = m.grid.width;

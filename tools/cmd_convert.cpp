@@ -76,7 +76,8 @@ void run(const ConvertArgs& args) {
     return convertLog(args);
   const FloorplanFormat format = floorplanFormatFromPath(args.out);  // fail before reading
   const std::optional<FloorplanGeoref> georef = cli::georefOf(args.georef);
-  VectorMap map = cli::readPlan(args.in, args.units == "0" ? "" : args.units, args.layers, args.quiet);
+  VectorMap map = cli::readPlan(args.in, args.units == "0" ? "" : args.units, args.layers, args.quiet, nullptr,
+                                /*clutter=*/false);
   if (map.segments.empty()) throw Error("no line segments found in floorplan", args.in);
   FloorplanExtras extras = readFloorplanExtras(args.in);
   cli::undoInputOrigin(args.georef, map, extras, args.quiet);

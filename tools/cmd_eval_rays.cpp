@@ -14,17 +14,14 @@ struct EvalRaysArgs {
   std::string plan, log, json, units, layers;
   eval::ConsistencyOptions options;
   LogReadOptions read;
-  bool quiet = false, clutter = false;
+  bool quiet = false, walls_only = false;
 };
 
 void run(const EvalRaysArgs& args) {
-  VectorMap plan = cli::readPlan(args.plan, args.units, args.layers, args.quiet);
-  std::size_t clutter = 0;
-  if (args.clutter) {  // the plan as mapped: the building and the furniture the vectorizer kept apart
-    const FloorplanExtras extras = readFloorplanExtras(args.plan);
-    clutter = extras.clutter.segments.size();
-    plan.segments.insert(plan.segments.end(), extras.clutter.segments.begin(), extras.clutter.segments.end());
-  }
+  // The plan as mapped: the building and the clutter the vectorizer kept apart from it (our
+  // CLUTTER layer), or with --walls-only the building alone.
+  const VectorMap plan = cli::readPlan(args.plan, args.units, args.layers, args.quiet, nullptr, !args.walls_only);
+  const std::size_t clutter = args.walls_only ? 0 : readFloorplanExtras(args.plan).clutter.segments.size();
   const LaserLog log = cli::readLogReporting(args.log, args.read, args.quiet);
   const eval::ConsistencyResult r = eval::rayConsistency(log, plan, args.options);
   const nlohmann::json j = {{"plan", args.plan},
@@ -60,7 +57,7 @@ void run(const EvalRaysArgs& args) {
               pct(r.near_segment));
   std::printf("plan: %zu segments (%zu wall, %.1f m; %zu glass, %.1f m)%s\n", r.segments, r.wall_segments,
               r.wall_length, r.glass_segments, r.glass_length,
-              args.clutter ? (", " + std::to_string(clutter) + " of the walls from the clutter layer").c_str() : "");
+              clutter > 0 ? (", " + std::to_string(clutter) + " of the walls from the clutter layer").c_str() : "");
 }
 
 const cli::Registrar reg(75, [](CLI::App& app) {
@@ -86,8 +83,9 @@ const cli::Registrar reg(75, [](CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--max-scans", args->options.max_scans, "score this many scans spread over the log (0: all)")
       ->capture_default_str();
-  cmd->add_flag("--clutter", args->clutter,
-                "score the plan with its CLUTTER layer (furniture kept apart from the walls) as walls too");
+  cmd->add_flag("--walls-only", args->walls_only,
+                "score the building alone: leave the plan's CLUTTER layer (furniture kept apart from the\n"
+                "walls, read as walls by default) out");
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");
   cli::addLogOptions(*cmd, args->read);
   cli::addUnitsOption(*cmd, args->units);

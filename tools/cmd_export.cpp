@@ -25,7 +25,7 @@ void run(const ExportArgs& args) {
   if (!vector::isExportFormat(args.out))
     throw Error("unknown floorplan format (expected .gpkg, .geojson, .json, .shp, .fgb, .dxf, .svg, .png or .pdf)",
                 args.out);
-  VectorMap map = cli::readPlan(args.in, args.units, args.layers, args.quiet);
+  VectorMap map = cli::readPlan(args.in, args.units, args.layers, args.quiet, nullptr, /*clutter=*/false);
   FloorplanExtras extras = readFloorplanExtras(args.in);
   cli::undoInputOrigin(args.georef, map, extras, args.quiet);
   vector::exportFloorplan(args.out, map, extras, georef ? &*georef : nullptr);

@@ -217,6 +217,12 @@ const cli::Registrar reg(50, [](CLI::App& app) {
       ->capture_default_str();
   addMaterialOptions(cmd, "glass", args->options.glass);
   addMaterialOptions(cmd, "wall", args->options.wall);
+  cmd->add_option("--line-tolerance", args->options.structure.line_tolerance,
+                  "structure: pieces of one direction whose offsets differ by less share a wall line [m]")
+      ->capture_default_str();
+  cmd->add_option("--min-line-support", args->options.structure.min_line_support,
+                  "structure: a wall line whose pieces sum to less is clutter unless it joins walls [m]")
+      ->capture_default_str();
   cli::addGeorefOptions(*cmd, args->georef);
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing");

@@ -336,10 +336,15 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
           io_detail::extraLayerOf(ours, layer->GetName(), *f, has_cad ? f->GetFieldAsString(dxf_layer_idx) : "");
       if (extra != io_detail::ExtraLayer::None && !(extra == io_detail::ExtraLayer::Clutter && options.clutter)) {
         tally.add(has_cad ? f->GetFieldAsString(dxf_layer_idx) : layer->GetName(), "ignored",
-                  "glassmap's clutter, door and room layers are not surfaces", 0);
+                  extra == io_detail::ExtraLayer::Clutter ? "glassmap's clutter layer (the building only)"
+                                                          : "glassmap's door and room layers are not surfaces",
+                  0);
         continue;
       }
-      if (material_idx >= 0 && f->IsFieldSetAndNotNull(material_idx)) {
+      if (extra == io_detail::ExtraLayer::Clutter) {  // material "clutter": a surface, read as wall
+        a.material = Material::Wall;
+        a.material_set = true;
+      } else if (material_idx >= 0 && f->IsFieldSetAndNotNull(material_idx)) {
         try {
           a.material = parseMaterial(f->GetFieldAsString(material_idx));
           a.material_set = true;

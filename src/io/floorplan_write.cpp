@@ -118,7 +118,7 @@ void writeExtras(GDALDataset& ds, OGRLayer* main, FloorplanFormat format, OGRSpa
     OGRFeature f(clutter->GetLayerDefn());
     tag(f, "CLUTTER", "CLUTTER");
     if (!dxf) {
-      f.SetField("material", "wall");
+      f.SetField("material", "clutter");  // not a wall to a GIS filtering on it
       f.SetField("thickness", s.thickness);
       f.SetField("support", static_cast<GIntBig>(s.support));
       f.SetField("evidence", s.evidence);

@@ -88,7 +88,7 @@ bool facesPocket(const Piece& p, const Components& free, double min_cells, const
 
 void separateClutter(std::vector<Piece> joined, const std::vector<std::size_t>& line_of,
                      const std::vector<WallLine>& lines, const std::vector<Piece>& glass, const Components& free,
-                     const Context& ctx, Structure& out) {
+                     const std::vector<Piece>& fitted, const Context& ctx, Structure& out) {
   const StructureOptions& o = ctx.opt.structure;
   const std::size_t n = joined.size();
   const double pocket_cells = o.min_room_area / (ctx.grid.resolution * ctx.grid.resolution);
@@ -165,22 +165,48 @@ void separateClutter(std::vector<Piece> joined, const std::vector<std::size_t>& 
       std::remove_if(out.openings.begin(), out.openings.end(),
                      [&](const Opening& op) { return !wall[op.left] || !wall[op.right] || crossed(op); }),
       out.openings.end());
-  for (std::size_t i = 0; i < n; ++i) (wall[i] ? out.walls : out.clutter).push_back(std::move(joined[i]));
+  // Walls as joined; clutter as it was fitted (furniture is not aligned with the building: no
+  // snapping to its directions, no joining along its lines).
+  for (std::size_t i = 0; i < n; ++i) {
+    if (wall[i]) {
+      out.walls.push_back(std::move(joined[i]));
+      continue;
+    }
+    for (const std::uint32_t k : joined[i].parts) out.clutter.push_back(fitted[k]);
+  }
 }
 
 Structure extractStructure(std::vector<Piece> walls, const std::vector<Piece>& glass, const CellCloud& cloud,
                            const Context& ctx) {
   Structure out;
   out.directions = dominantDirections(walls, glass, ctx);
+  const std::vector<Piece> fitted = walls;
   const std::vector<int> which = snapToDirections(walls, out.directions, ctx);
   for (const int w : which) out.snapped += w >= 0;
   const std::vector<WallLine> lines = groupLines(walls, which, out.directions, ctx);
   std::vector<std::size_t> line_of;
-  std::vector<Piece> joined = joinLines(lines, walls, cloud, ctx, line_of, out);
+  std::vector<Piece> joined = joinLines(lines, walls, glass, cloud, ctx, line_of, out);
   std::vector<std::uint8_t> is_free(ctx.grid.cells());
   for (std::size_t i = 0; i < is_free.size(); ++i) is_free[i] = ctx.grid.codes[i] == kCodeEmpty;
-  const Components free = connectedComponents(ctx.grid.width, ctx.grid.height, is_free);
-  separateClutter(std::move(joined), line_of, lines, glass, free, ctx, out);
+  Components free = connectedComponents(ctx.grid.width, ctx.grid.height, is_free);
+  // Only a pocket sealed by what was hit all round is the inside of a drawn outline; one that
+  // touches unknown cells is free space not seen whole (real maps have many). Unsealed pockets
+  // count as large.
+  const int w = ctx.grid.width, h = ctx.grid.height;
+  std::vector<char> sealed(free.count(), 1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::int32_t k = free.label[static_cast<std::size_t>(y) * w + x];
+      if (k < 0) continue;
+      for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+        const int nx = x + dx, ny = y + dy;
+        if (nx < 0 || ny < 0 || nx >= w || ny >= h || ctx.grid.code(nx, ny) == kCodeUnknown)
+          sealed[static_cast<std::size_t>(k)] = 0;
+      }
+    }
+  for (std::size_t k = 0; k < free.count(); ++k)
+    if (!sealed[k]) free.sizes[k] = std::numeric_limits<std::size_t>::max();
+  separateClutter(std::move(joined), line_of, lines, glass, free, fitted, ctx, out);
   return out;
 }
 

@@ -124,11 +124,27 @@ std::vector<double> crossingsOf(const WallLine& l, double t0, double t1, const s
   return out;
 }
 
+// The ends (along l, within t0 .. t1) of panes lying on the line (within 0.2 m of it, at most
+// 10 degrees off it): a pane fills that part of a gap, so it is neither bridged nor left open.
+std::vector<double> panesOn(const WallLine& l, double t0, double t1, const std::vector<Piece>& glass) {
+  std::vector<double> out;
+  const Vec2 n = l.normal();
+  for (const Piece& g : glass) {
+    if (std::abs(g.d.dot(l.d)) < std::cos(deg2rad(10.0))) continue;
+    if (std::abs(n.dot(g.a()) - l.offset) > 0.2 || std::abs(n.dot(g.b()) - l.offset) > 0.2) continue;
+    const double u = l.d.dot(g.a()), v = l.d.dot(g.b());
+    if (std::max(u, v) <= t0 || std::min(u, v) >= t1) continue;
+    out.push_back(std::clamp(std::min(u, v), t0, t1));
+    out.push_back(std::clamp(std::max(u, v), t0, t1));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<Piece> joinLines(const std::vector<WallLine>& lines, const std::vector<Piece>& walls,
-                             const CellCloud& cloud, const Context& ctx, std::vector<std::size_t>& line_of,
-                             Structure& out) {
+                             const std::vector<Piece>& glass, const CellCloud& cloud, const Context& ctx,
+                             std::vector<std::size_t>& line_of, Structure& out) {
   const StructureOptions& o = ctx.opt.structure;
   const double res = ctx.grid.resolution;
   const double segment_cost = std::log(std::max<double>(2.0, static_cast<double>(cloud.points.size())));
@@ -198,7 +214,9 @@ std::vector<Piece> joinLines(const std::vector<WallLine>& lines, const std::vect
       // Walls running through the gap (a corridor's walls where this line crosses it): the gap is a
       // junction, never bridged; only its stretches up to the first and from the last crossing
       // belong to this line's walls.
-      const std::vector<double> crossings = crossingsOf(l, cur.t1, next.t0, walls);
+      std::vector<double> crossings = crossingsOf(l, cur.t1, next.t0, walls);
+      for (const double t : panesOn(l, cur.t1, next.t0, glass)) crossings.push_back(t);
+      std::sort(crossings.begin(), crossings.end());
       const int left_end =
           crossings.empty() ? count : std::clamp(static_cast<int>((crossings.front() - cur.t1) / step), 0, count);
       const int right_begin =
@@ -242,6 +260,7 @@ std::vector<Piece> joinLines(const std::vector<WallLine>& lines, const std::vect
       p.t1 = i.t1;
       for (const std::size_t m : i.members) {
         const Piece& q = walls[m];
+        p.parts.push_back(static_cast<std::uint32_t>(m));
         p.ids.insert(p.ids.end(), q.ids.begin(), q.ids.end());
         p.moments += q.moments;
         p.thickness = std::max(p.thickness, q.thickness);

@@ -27,6 +27,7 @@ struct Piece {
   double thickness = 0;    ///< measured or merged thickness [m]
   bool faces_merged = false;
   bool alive = true;
+  std::vector<std::uint32_t> parts;  ///< structure step: the fitted pieces a wall line joined into this one
 
   Vec2 a() const { return c + t0 * d; }
   Vec2 b() const { return c + t1 * d; }

@@ -62,15 +62,17 @@ Seen seenAt(const Vec2& p, const Vec2& n, const Context& ctx);
 std::vector<WallLine> groupLines(const std::vector<Piece>& walls, const std::vector<int>& direction,
                                  const std::vector<double>& directions, const Context& ctx);
 /// Each line's pieces joined along it: gaps bridged when their cost is below a segment's, kept
-/// open otherwise (openings recorded). Returns the pieces of every line, and the line of each.
+/// open otherwise (openings recorded); a wall running through a gap, or a pane lying in it, stops
+/// it. Returns the pieces of every line, and the line of each.
 std::vector<Piece> joinLines(const std::vector<WallLine>& lines, const std::vector<Piece>& walls,
-                             const CellCloud& cloud, const Context& ctx, std::vector<std::size_t>& line_of,
-                             Structure& out);
+                             const std::vector<Piece>& glass, const CellCloud& cloud, const Context& ctx,
+                             std::vector<std::size_t>& line_of, Structure& out);
 // clutter.cpp
-/// Splits the joined pieces into the building's walls and clutter.
+/// Splits the joined pieces into the building's walls and clutter (clutter as `fitted`, the pieces
+/// before snapping and joining).
 void separateClutter(std::vector<Piece> joined, const std::vector<std::size_t>& line_of,
                      const std::vector<WallLine>& lines, const std::vector<Piece>& glass, const Components& free,
-                     const Context& ctx, Structure& out);
+                     const std::vector<Piece>& fitted, const Context& ctx, Structure& out);
 
 // rooms.cpp
 /// Rooms: the regions the walls, panes and openings up to door_max wide close off, inside the map.

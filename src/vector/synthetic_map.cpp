@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
+#include <limits>
 
 #include "glassmap/core/angles.hpp"
 #include "glassmap/core/error.hpp"
@@ -73,27 +75,62 @@ std::vector<Vec2> freeEnds(const VectorMap& structure) {
   return ends;
 }
 
-// The building's inside: cells not occupied and not connected to the grid's border; enclosed
-// pockets under min_cells (a desk's inside) are filled. Returns 1 for inside cells.
-std::vector<std::uint8_t> insideCells(const LabelGrid& g, std::size_t min_cells) {
-  std::vector<std::uint8_t> open(g.cells());
-  for (std::size_t i = 0; i < g.cells(); ++i) open[i] = g.codes[i] != kCodeOccupied;
+// The building's inside: cells not occupied and not reached from the grid's border, where an
+// entrance up to `entrance` [m] wide does not let the outside in (the walls grown by half of it
+// stop the flood from the border; the outside then grows back to the walls); enclosed pockets
+// under min_cells (a desk's inside) are not inside either. Returns 1 for inside cells.
+std::vector<std::uint8_t> insideCells(const LabelGrid& g, std::size_t min_cells, double entrance) {
+  const std::size_t n = g.cells();
+  std::vector<std::uint8_t> wall(n), open(n);
+  for (std::size_t i = 0; i < n; ++i) wall[i] = g.codes[i] == kCodeOccupied;
+  const std::vector<float> to_wall = detail::distanceTransform(g.width, g.height, wall);
+  const float r = static_cast<float>(0.5 * entrance / g.resolution);
+  for (std::size_t i = 0; i < n; ++i) open[i] = to_wall[i] > r;
   const detail::Components c = detail::connectedComponents(g.width, g.height, open);
   std::vector<std::uint8_t> border(c.count(), 0);
-  for (int x = 0; x < g.width; ++x)
-    for (const int y : {0, g.height - 1}) {
-      const std::int32_t k = c.label[static_cast<std::size_t>(y) * g.width + x];
-      if (k >= 0) border[static_cast<std::size_t>(k)] = 1;
-    }
+  const auto mark = [&](int x, int y) {
+    const std::int32_t k = c.label[static_cast<std::size_t>(y) * g.width + x];
+    if (k >= 0) border[static_cast<std::size_t>(k)] = 1;
+  };
+  for (int x = 0; x < g.width; ++x) mark(x, 0), mark(x, g.height - 1);
+  for (int y = 0; y < g.height; ++y) mark(0, y), mark(g.width - 1, y);
+  std::vector<std::uint8_t> outside_seed(n, 0);
+  for (std::size_t i = 0; i < n; ++i) outside_seed[i] = c.label[i] >= 0 && border[static_cast<std::size_t>(c.label[i])];
+  for (int x = 0; x < g.width; ++x)  // the border itself (a margin narrower than the entrance)
+    for (const int y : {0, g.height - 1})
+      outside_seed[static_cast<std::size_t>(y) * g.width + x] |= !wall[static_cast<std::size_t>(y) * g.width + x];
   for (int y = 0; y < g.height; ++y)
-    for (const int x : {0, g.width - 1}) {
-      const std::int32_t k = c.label[static_cast<std::size_t>(y) * g.width + x];
-      if (k >= 0) border[static_cast<std::size_t>(k)] = 1;
-    }
-  std::vector<std::uint8_t> inside(g.cells(), 0);
-  for (std::size_t i = 0; i < g.cells(); ++i) {
-    const std::int32_t k = c.label[i];
-    inside[i] = k >= 0 && !border[static_cast<std::size_t>(k)] && c.sizes[static_cast<std::size_t>(k)] >= min_cells;
+    for (const int x : {0, g.width - 1})
+      outside_seed[static_cast<std::size_t>(y) * g.width + x] |= !wall[static_cast<std::size_t>(y) * g.width + x];
+  // The outside grows back to the walls through free cells only (8-neighbour steps, a chamfer
+  // distance), as far as the walls were grown.
+  std::vector<float> reach(n, std::numeric_limits<float>::infinity());
+  std::deque<std::size_t> queue;
+  for (std::size_t i = 0; i < n; ++i)
+    if (outside_seed[i]) reach[i] = 0.0f, queue.push_back(i);
+  while (!queue.empty()) {
+    const std::size_t i = queue.front();
+    queue.pop_front();
+    const int x = static_cast<int>(i % static_cast<std::size_t>(g.width)),
+              y = static_cast<int>(i / static_cast<std::size_t>(g.width));
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int nx = x + dx, ny = y + dy;
+        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= g.width || ny >= g.height) continue;
+        const std::size_t j = static_cast<std::size_t>(ny) * g.width + nx;
+        const float d = reach[i] + (dx != 0 && dy != 0 ? 1.4142f : 1.0f);
+        if (wall[j] || d >= reach[j] || d > r + 1.5f) continue;
+        reach[j] = d;
+        queue.push_back(j);
+      }
+  }
+  std::vector<std::uint8_t> candidate(n);
+  for (std::size_t i = 0; i < n; ++i) candidate[i] = !wall[i] && !std::isfinite(reach[i]);
+  const detail::Components in = detail::connectedComponents(g.width, g.height, candidate);
+  std::vector<std::uint8_t> inside(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int32_t k = in.label[i];
+    inside[i] = k >= 0 && in.sizes[static_cast<std::size_t>(k)] >= min_cells;
   }
   return inside;
 }
@@ -275,7 +312,7 @@ SyntheticMap makeSyntheticMap(const VectorMap& plan, const SyntheticMapOptions& 
   rasterize(g, out.structure, o.resolution);
   rasterize(g, thin, o.resolution);
   const auto min_cells = static_cast<std::size_t>(o.min_room_area / (o.resolution * o.resolution));
-  std::vector<std::uint8_t> inside = insideCells(g, min_cells);
+  std::vector<std::uint8_t> inside = insideCells(g, min_cells, o.entrance_width);
   SplitMix rng(o.seed);
   addFurniture(g, inside, out.structure, o, rng, out);
   switch (o.convention) {

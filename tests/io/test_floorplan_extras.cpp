@@ -1,6 +1,6 @@
 // The extra layers of a floorplan (clutter, doors, rooms) in GPKG, GeoJSON and DXF: written, read
-// back, skipped by readFloorplan (clutter read as walls only when asked), left out of the one-layer
-// formats; and georeferenced plans at 10^6 m coordinates read back in their map frame to well
+// back, doors and rooms skipped by readFloorplan, clutter read as walls unless the building alone
+// is asked for, left out of the one-layer formats; and georeferenced plans at 10^6 m coordinates read back in their map frame to well
 // under a millimetre.
 #include <gtest/gtest.h>
 
@@ -45,12 +45,13 @@ TEST_P(ExtrasRoundTrip, LayersComeBackAndAreNotSurfaces) {
   test::TempDir dir;
   const fs::path f = dir / (std::string("plan.") + GetParam());
   writeFloorplan(f, building(), extras());
-  const VectorMap walls = readFloorplan(f);
+  // By default every surface: the building and its clutter (as walls); the building alone when asked.
+  EXPECT_EQ(readFloorplan(f).segments.size(), building().segments.size() + 2);
+  FloorplanReadOptions building_only;
+  building_only.clutter = false;
+  const VectorMap walls = readFloorplan(f, building_only);
   EXPECT_EQ(walls.segments.size(), building().segments.size());
   EXPECT_EQ(walls.count(Material::Glass), 1u);
-  FloorplanReadOptions with_clutter;
-  with_clutter.clutter = true;
-  EXPECT_EQ(readFloorplan(f, with_clutter).segments.size(), building().segments.size() + 2);
   const FloorplanExtras back = readFloorplanExtras(f);
   ASSERT_EQ(back.clutter.segments.size(), 2u);
   EXPECT_LT((back.clutter.segments[0].b - Vec2(2.5, 1)).norm(), 1e-9);
@@ -83,7 +84,9 @@ TEST(FloorplanExtras, GeoreferencedAtAMillionMetresLosesNothing) {
   for (const char* ext : {"gpkg", "geojson"}) {
     const fs::path f = dir / (std::string("plan.") + ext);
     writeFloorplan(f, building(), extras(), &g);
-    const VectorMap back = readFloorplan(f);
+    FloorplanReadOptions building_only;
+    building_only.clutter = false;
+    const VectorMap back = readFloorplan(f, building_only);
     ASSERT_EQ(back.segments.size(), building().segments.size()) << ext;
     for (std::size_t i = 0; i < back.segments.size(); ++i) {
       EXPECT_LT((back.segments[i].a - building().segments[i].a).norm(), 1e-6) << ext;
@@ -95,7 +98,7 @@ TEST(FloorplanExtras, GeoreferencedAtAMillionMetresLosesNothing) {
     ASSERT_EQ(x.doors.size(), 1u);
     EXPECT_LT((x.doors[0].a - Vec2(4, 2)).norm(), 1e-6) << ext;
     // In the building's CRS when asked: the far corner where the origin puts it.
-    FloorplanReadOptions building_frame;
+    FloorplanReadOptions building_frame = building_only;
     building_frame.building_frame = true;
     const VectorMap placed = readFloorplan(f, building_frame);
     EXPECT_LT((placed.segments[1].b - g.origin * Vec2(8, 5)).norm(), 1e-6) << ext;

@@ -88,9 +88,13 @@ TEST(Georeference, GeoJsonNamesItsCrs) {
   std::ifstream in(f);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("EPSG::25832"), std::string::npos);
+  // Its description records the map frame: read back there, or in the CRS when asked.
   const VectorMap back = readFloorplan(f);
   ASSERT_EQ(back.segments.size(), 2u);
-  EXPECT_NEAR(back.segments[0].b.x(), 500010.0, 1e-6);
+  EXPECT_NEAR(back.segments[0].b.x(), 10.0, 1e-6);
+  FloorplanReadOptions building;
+  building.building_frame = true;
+  EXPECT_NEAR(readFloorplan(f, building).segments[0].b.x(), 500010.0, 1e-6);
 }
 
 TEST(Georeference, RefusesGeographicAndUnknownCrs) {

@@ -41,8 +41,9 @@ struct FloorplanReadOptions {
   FloorplanUnits* units = nullptr;        ///< if set, receives what was assumed
   std::vector<LayerRule> layer_rules;     ///< user rules, tried before the built-in layer table
   FloorplanReadReport* report = nullptr;  ///< if set, receives what was read as what
-  bool clutter = false;                   ///< also read a CLUTTER layer of ours (as walls); DOOR and ROOMS
-                                          ///< layers are never surfaces
+  bool clutter = true;                    ///< read a CLUTTER layer of ours as walls (every surface a laser
+                                          ///< sees: localize, calibrate); false: the building only (eval
+                                          ///< segments, export); DOOR and ROOMS layers are never surfaces
   bool building_frame = false;            ///< keep a georeferenced GPKG in its CRS instead of moving it back
                                           ///< into the map frame it records
 };

@@ -46,6 +46,7 @@ struct SyntheticMapOptions {
   double beam_step_deg = 0.5;         ///< slam: angular step of a scan [deg]
   double max_range = 8.0;             ///< slam: reach of a scan [m]
   double range_sigma = 0.01;          ///< slam: range noise [m]
+  double entrance_width = 3.0;        ///< openings to the outside up to this wide do not let it in [m]
   double min_room_area = 3.0;         ///< enclosed pockets smaller than this are solid (desk insides) [m^2]
   std::uint64_t seed = 1;             ///< furniture, viewpoints and noise
 };
