@@ -126,7 +126,6 @@ FieldModel::FieldModel(const VectorMap& map, const SensorParams& params)
   }
 }
 
-
 double FieldModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const {
   if (z >= max_range) return std::log(std::max(w_max_, 1e-12));
   return logHit(grid_.distance(T_map_laser.t + z * dir), max_range);
