@@ -93,8 +93,8 @@ void castPacketsAvx2(const PacketGrid& grid, const PacketRays& rays, double* out
 }
 
 void testSegmentAvx2(double* best, std::int64_t* id, const double* ox, const double* oy, const double* ux,
-                      const double* uy, const std::int64_t* skip, std::size_t n, double ax, double ay, double dx, double dy,
-                      std::int64_t seg_id) {
+                     const double* uy, const std::int64_t* skip, std::size_t n, double ax, double ay, double dx,
+                     double dy, std::int64_t seg_id) {
   testSegmentLanes(best, id, ox, oy, ux, uy, skip, n, ax, ay, dx, dy, seg_id);
 }
 

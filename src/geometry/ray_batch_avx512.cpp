@@ -23,7 +23,9 @@ inline vi gatherSpans(const std::int64_t* base, vi idx, vi m, vi src = vi{}) {
                                          reinterpret_cast<const long long*>(base), 8);
 }
 // Segment ids of entries idx (scalar loads: a gather is slower here).
-inline vi gatherIds(const std::int32_t* ids, vi idx) { return vi{ids[idx[0]], ids[idx[1]], ids[idx[2]], ids[idx[3]], ids[idx[4]], ids[idx[5]], ids[idx[6]], ids[idx[7]]}; }
+inline vi gatherIds(const std::int32_t* ids, vi idx) {
+  return vi{ids[idx[0]], ids[idx[1]], ids[idx[2]], ids[idx[3]], ids[idx[4]], ids[idx[5]], ids[idx[6]], ids[idx[7]]};
+}
 // Eight 32-byte segments (ax, ay, dx, dy) by index, transposed into ax, ay, dx, dy: plain loads
 // and shuffles, several times faster than four gathers here.
 inline void loadSegs(const double* segs, vi idx, vd& ax, vd& ay, vd& dx, vd& dy) {
@@ -80,8 +82,8 @@ void castPacketsAvx512(const PacketGrid& grid, const PacketRays& rays, double* o
 }
 
 void testSegmentAvx512(double* best, std::int64_t* id, const double* ox, const double* oy, const double* ux,
-                      const double* uy, const std::int64_t* skip, std::size_t n, double ax, double ay, double dx, double dy,
-                      std::int64_t seg_id) {
+                       const double* uy, const std::int64_t* skip, std::size_t n, double ax, double ay, double dx,
+                       double dy, std::int64_t seg_id) {
   testSegmentLanes(best, id, ox, oy, ux, uy, skip, n, ax, ay, dx, dy, seg_id);
 }
 

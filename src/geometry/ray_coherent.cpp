@@ -23,9 +23,9 @@
 namespace glassmap {
 namespace {
 
-constexpr double kSlack = 1e-12;                   // as ray_caster.cpp: segments lengthened by 1e-12
-constexpr double kMinCos = 0.93969262078590838;    // cos 20 deg: wider groups walk ray by ray
-constexpr double kMargin = 1e-7;                   // [m] widens the swept wedge against rounding
+constexpr double kSlack = 1e-12;                 // as ray_caster.cpp: segments lengthened by 1e-12
+constexpr double kMinCos = 0.93969262078590838;  // cos 20 deg: wider groups walk ray by ray
+constexpr double kMargin = 1e-7;                 // [m] widens the swept wedge against rounding
 
 double acceptLimit(double max_range) {  // as ray_caster.cpp
   const double m = std::min(max_range, std::numeric_limits<double>::max());
@@ -38,7 +38,7 @@ struct Group {
   std::vector<double> ox, oy, ux, uy, best, max_range;
   std::vector<std::int64_t> skip, id;
   std::vector<std::size_t> ray;
-  std::vector<std::uint8_t> done;
+  std::vector<std::uint32_t> pending;  // undecided rays [0, live)
   std::vector<std::uint32_t> visited;  // per padded cell: the stamp of the last group that swept it
   std::vector<std::uint32_t> tested;   // per segment: the stamp of the last group tested against it
   std::uint32_t stamp = 0;
@@ -180,13 +180,13 @@ void RayCaster::castGroups(const RayBatch& rays, const std::size_t* group_end, s
       g.stamp = 1;
     }
     std::size_t live = n;
-    g.done.assign(n, 0);
+    g.pending.resize(n);
+    for (std::size_t k = 0; k < n; ++k) g.pending[k] = static_cast<std::uint32_t>(k);
     auto decide = [&](std::size_t k) {  // writes ray k's result; its slot then takes no more hits
       const std::size_t i = g.ray[k];
       const bool hit = g.id[k] >= 0;
       range[i] = hit ? g.best[k] : kInf;
       if (segment) segment[i] = hit ? static_cast<std::int32_t>(g.id[k]) : -1;
-      g.done[k] = 1;
       g.clear(k);
       --live;
     };
@@ -202,8 +202,10 @@ void RayCaster::castGroups(const RayBatch& rays, const std::size_t* group_end, s
           ymin = std::min(ymin, py);
           ymax = std::max(ymax, py);
         }
-      const double fx0 = std::floor((xmin - origin_.x()) * inv_cell_), fx1 = std::floor((xmax - origin_.x()) * inv_cell_);
-      const double fy0 = std::floor((ymin - origin_.y()) * inv_cell_), fy1 = std::floor((ymax - origin_.y()) * inv_cell_);
+      const double fx0 = std::floor((xmin - origin_.x()) * inv_cell_),
+                   fx1 = std::floor((xmax - origin_.x()) * inv_cell_);
+      const double fy0 = std::floor((ymin - origin_.y()) * inv_cell_),
+                   fy1 = std::floor((ymax - origin_.y()) * inv_cell_);
       if (fx1 >= 0 && fy1 >= 0 && fx0 < nx_ && fy0 < ny_) {
         const int ix0 = static_cast<int>(std::max(fx0, 0.0)), ix1 = static_cast<int>(std::min(fx1, nx_ - 1.0));
         const int iy0 = static_cast<int>(std::max(fy0, 0.0)), iy1 = static_cast<int>(std::min(fy1, ny_ - 1.0));
@@ -229,15 +231,17 @@ void RayCaster::castGroups(const RayBatch& rays, const std::size_t* group_end, s
       }
       a0 = a1;
       const double reached = a1 - radius - kMargin;  // every ray is settled up to t = reached
-      double nearest = kInf;  // the nearest best hit or max range of an undecided ray
-      for (std::size_t k = 0; k < n; ++k)
-        nearest = std::min(nearest, g.done[k] ? kInf : std::min(g.best[k], g.max_range[k]));
-      if (nearest <= reached)
-        for (std::size_t k = 0; k < n; ++k)
-          if (!g.done[k] && (g.best[k] <= reached || g.max_range[k] <= reached)) decide(k);
+      for (std::size_t l = 0; l < live;) {           // the undecided rays, listed
+        const std::uint32_t k = g.pending[l];
+        if (g.best[k] <= reached || g.max_range[k] <= reached) {
+          decide(k);  // drops it: the list's last entry takes its place
+          g.pending[l] = g.pending[live];
+        } else {
+          ++l;
+        }
+      }
     }
-    for (std::size_t k = 0; k < n; ++k)  // the sweep passed the grid or every max range
-      if (!g.done[k]) decide(k);
+    while (live > 0) decide(g.pending[live - 1]);  // the sweep passed the grid or every max range
   }
 }
 

@@ -1,4 +1,5 @@
 #include "glassmap/sensor/beam_model.hpp"
+#include "mixture_pick.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -38,17 +39,20 @@ double BeamModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, doubl
 }
 
 double BeamModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const {
-  return sumLogProbabilities(T_map_laser, beams, [&](const Vec2& dir, double z) {
-    return probability(T_map_laser.t, dir, z, beams.max_range);
-  });
+  double out = 0.0;  // the batch call for one pose: bit for bit what the filter's calls give it
+  logLikelihoods(std::span<const Pose2>(&T_map_laser, 1), beams, &out);
+  return out;
 }
 
 void BeamModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const {
   // The rays of up to 256 poses, beam-major: one beam of a particle cloud is a coherent group that
-  // RayCaster::castGroups sweeps once (bit for bit castRange); then each pose's sum of logs exactly
+  // RayCaster::castGroups sweeps once (bit for bit castRange); the mixture on SIMD lanes where the
+  // CPU has them (equal to Mixture::probability up to float rounding); then each pose's sum of logs
   // as sumLogProbabilities forms it.
   constexpr std::size_t kBlock = 256;
-  thread_local std::vector<double> ox, oy, ux, uy, range, short_num;
+  thread_local std::vector<double> ox, oy, ux, uy, range, p, short_num;
+  thread_local std::vector<std::uint8_t> fix;
+  static const detail::MixtureLanesFn lanes_fn = detail::mixtureLanes();
   thread_local std::vector<std::size_t> ends;
   const std::size_t nb = beams.size();
   short_num.resize(nb);
@@ -78,13 +82,20 @@ void BeamModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& beam
     rays.range = beams.max_range;
     rays.size = nr;
     caster_.castGroups(rays, ends.data(), nb, range.data());
-    for (std::size_t i = 0; i < nb; ++i)
+    fix.resize(nr);
+    p.resize(nr);
+    for (std::size_t i = 0; i < nb; ++i) {
+      const double z = beams.ranges[i];
+      const bool lanes = lanes_fn && z < beams.max_range;  // SIMD lanes: equal up to float rounding
+      if (lanes)
+        lanes_fn(detail::lanesFor(mix_, z, beams.max_range, short_num[i]), &range[i * n], &p[i * n], &fix[i * n], n);
       for (std::size_t k = i * n; k < (i + 1) * n; ++k)
-        range[k] = mix_.probability(beams.ranges[i], range[k], beams.max_range, short_num[i]);
+        if (!lanes || fix[k]) p[k] = mix_.probability(z, range[k], beams.max_range, short_num[i]);
+    }
     for (std::size_t j = 0; j < n; ++j) {
       double sum = 0.0, block = 1.0;
       for (std::size_t i = 0; i < nb; ++i) {
-        block *= range[i * n + j];
+        block *= p[i * n + j];
         if ((i & 7) == 7) {
           sum += std::log(block);
           block = 1.0;

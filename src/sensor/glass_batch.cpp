@@ -2,12 +2,14 @@
 // RayCaster::castBatch in rounds (first surfaces; then the mirrored and the transmitted rays of
 // the beams that met a pane; then the transmitted rays that met another pane), and every
 // probability is made of the same pieces as the one-ray path (weights, mirrored, transmitted,
-// goesOn, fromModes, Mixture), so each particle's log-likelihood is bit for bit the one-pose call.
+// goesOn, fromModes, Mixture; the walls' mixture on SIMD lanes, equal up to float rounding), and the
+// one-pose call is this call for one pose.
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "glassmap/sensor/glass_model.hpp"
+#include "mixture_pick.hpp"
 
 namespace glassmap::sensor {
 namespace {
@@ -20,6 +22,7 @@ struct Rays {
   std::vector<double> ox, oy, ux, uy, max_range, range;
   std::vector<std::int32_t> skip, segment;
   std::vector<std::uint32_t> owner;  // the beam (ray of the first round) a ray belongs to
+  std::vector<std::uint32_t> group;  // its beam index: rays of one beam and pane form a group
   void clear() {
     ox.clear();
     oy.clear();
@@ -28,8 +31,10 @@ struct Rays {
     max_range.clear();
     skip.clear();
     owner.clear();
+    group.clear();
   }
-  void add(const Vec2& o, const Vec2& d, double m, std::int32_t s, std::uint32_t who) {
+  void add(const Vec2& o, const Vec2& d, double m, std::int32_t s, std::uint32_t who, std::uint32_t beam) {
+    group.push_back(beam);
     ox.push_back(o.x());
     oy.push_back(o.y());
     ux.push_back(d.x());
@@ -39,14 +44,13 @@ struct Rays {
     owner.push_back(who);
   }
   std::size_t size() const { return ox.size(); }
-  // Casts them in coherent groups: consecutive rays of one beam (owner / per_beam) that start on
-  // the same pane (skip).
-  void cast(const RayCaster& caster, std::size_t per_beam) {
+  // Casts them in coherent groups: consecutive rays of one beam that start on the same pane (skip).
+  void cast(const RayCaster& caster) {
     range.resize(size());
     segment.resize(size());
     ends.clear();
     for (std::size_t r = 1; r < size(); ++r)
-      if (owner[r] / per_beam != owner[r - 1] / per_beam || skip[r] != skip[r - 1]) ends.push_back(r);
+      if (group[r] != group[r - 1] || skip[r] != skip[r - 1]) ends.push_back(r);
     if (size() > 0) ends.push_back(size());
     RayBatch b;
     b.ox = ox.data();
@@ -64,6 +68,7 @@ struct Rays {
 struct Scratch {
   std::vector<double> ox, oy, ux, uy, range, p, short_num;
   std::vector<std::size_t> ends;
+  std::vector<std::uint8_t> fix;
   std::vector<std::int32_t> segment;
   std::vector<GlassModes> modes;
   std::vector<std::uint32_t> glass;  // beams whose first surface is a pane
@@ -79,6 +84,7 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
   const std::size_t nb = beams.size();
   const double max_range = beams.max_range;
   const auto& segments = caster_.map().segments;
+  static const detail::MixtureLanesFn lanes_fn = detail::mixtureLanes();
   s.short_num.resize(nb);
   for (std::size_t i = 0; i < nb; ++i)
     s.short_num[i] = beams.ranges[i] < max_range ? mix_.shortNumerator(beams.ranges[i]) : 0.0;
@@ -145,22 +151,24 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
         m = weights(hit);
         const Vec2 p = o + hit.range * dir;
         const auto who = static_cast<std::uint32_t>(k);
-        if (m.w_normal > kNegligible) s.mirror.add(p, mirrored(seg, dir), max_range - m.d_g, seg, who);
+        if (m.w_normal > kNegligible)
+          s.mirror.add(p, mirrored(seg, dir), max_range - m.d_g, seg, who, static_cast<std::uint32_t>(i));
         if (m.w_refract > kNegligible && params_.max_panes >= 1) {
           walks.push_back(transmitted(m, hit, p, dir));
-          s.through.add(walks.back().o, dir, max_range - walks.back().travelled, walks.back().skip, who);
+          s.through.add(walks.back().o, dir, max_range - walks.back().travelled, walks.back().skip, who,
+                        static_cast<std::uint32_t>(i));
         }
         s.glass.push_back(who);
       }
     }
-    s.mirror.cast(caster_, n);
+    s.mirror.cast(caster_);
     for (std::size_t r = 0; r < s.mirror.size(); ++r) {
       GlassModes& m = s.modes[s.mirror.owner[r]];
       m.e_normal = m.d_g + s.mirror.range[r];  // +inf when the mirrored ray meets nothing
     }
     // The transmitted rays, one pane further per round.
     while (s.through.size() > 0) {
-      s.through.cast(caster_, n);
+      s.through.cast(caster_);
       s.next.clear();
       going.clear();
       for (std::size_t r = 0; r < s.through.size(); ++r) {
@@ -172,7 +180,7 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
         if (next.segment >= 0) next.material = segments[static_cast<std::size_t>(next.segment)].material;
         Transmitted& t = walks[r];
         if (goesOn(t, next, dir, s.modes[k].e_refract)) {
-          s.next.add(t.o, dir, max_range - t.travelled, t.skip, k);
+          s.next.add(t.o, dir, max_range - t.travelled, t.skip, k, s.through.group[r]);
           going.push_back(t);
         }
       }
@@ -180,14 +188,20 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
       walks.swap(going);
     }
 
-    // Probabilities, then each pose's sum of logs exactly as sumLogProbabilities forms it.
+    // Probabilities (a beam's wall and no-hit rays on SIMD lanes when the CPU has them), then
+    // each pose's sum of logs as sumLogProbabilities forms it.
+    s.fix.resize(nr);
     for (std::size_t i = 0; i < nb; ++i) {
       const double z = beams.ranges[i], short_num = s.short_num[i];
+      const bool lanes = lanes_fn && z < max_range;
+      if (lanes)
+        lanes_fn(detail::lanesFor(mix_, z, max_range, short_num), &s.range[i * n], &s.p[i * n], &s.fix[i * n], n);
       for (std::size_t k = i * n; k < (i + 1) * n; ++k) {
         const std::int32_t seg = s.segment[k];
-        s.p[k] = (seg < 0 || segments[static_cast<std::size_t>(seg)].material == Material::Wall)
-                     ? mix_.probability(z, s.range[k], max_range, short_num)
-                     : fromModes(s.modes[k], z, max_range, short_num);
+        if (seg >= 0 && segments[static_cast<std::size_t>(seg)].material == Material::Glass)
+          s.p[k] = fromModes(s.modes[k], z, max_range, short_num);
+        else if (!lanes || s.fix[k])
+          s.p[k] = mix_.probability(z, s.range[k], max_range, short_num);
       }
     }
     for (std::size_t j = 0; j < n; ++j) {

@@ -28,9 +28,10 @@ GlassModes GlassModel::weights(const RayHit& hit) const {
   m.theta_deg = rad2deg(hit.incidence);
   // Paper eq. (2.1): direct-reflection lobe; (2.2): normal reflection; (2.3): refraction.
   // With a measured profile: a peak below 1 and floors at any angle (defaults 1, 0, 0: the paper).
-  m.w_direct = params_.direct_floor +
-               (params_.direct_peak - params_.direct_floor) *
-                   std::exp(-m.theta_deg * m.theta_deg / (2.0 * params_.direct_sigma_deg * params_.direct_sigma_deg));
+  // (exp below -746 is exactly 0: taking that branch skips libm's slow underflow path, same bits.)
+  const double lobe = -m.theta_deg * m.theta_deg / (2.0 * params_.direct_sigma_deg * params_.direct_sigma_deg);
+  m.w_direct =
+      params_.direct_floor + (params_.direct_peak - params_.direct_floor) * (lobe < -746.0 ? 0.0 : std::exp(lobe));
   m.w_normal =
       params_.normal_floor + (1.0 - params_.normal_floor) * std::exp(-params_.lambda_normal * (90.0 - m.theta_deg));
   m.w_refract = std::max(0.0, 1.0 - m.w_normal - m.w_direct);
@@ -101,9 +102,9 @@ double GlassModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, doub
 }
 
 double GlassModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const {
-  return sumLogProbabilities(T_map_laser, beams, [&](const Vec2& dir, double z) {
-    return probability(T_map_laser.t, dir, z, beams.max_range);
-  });
+  double out = 0.0;  // the batch call for one pose (glass_batch.cpp): bit for bit the filter's calls
+  logLikelihoods(std::span<const Pose2>(&T_map_laser, 1), beams, &out);
+  return out;
 }
 
 double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, double max_range) const {
