@@ -43,12 +43,13 @@ CLI::App& verb(CLI::App& app, const std::string& name, const std::string& descri
 }
 
 VectorMap readPlan(const std::string& path, const std::string& units, const std::string& layers, bool quiet,
-                   std::string* warning_out) {
+                   std::string* warning_out, bool clutter) {
   FloorplanUnits assumed;
   FloorplanReadReport report;
   FloorplanReadOptions read;
   read.units = &assumed;
   read.report = &report;
+  read.clutter = clutter;
   if (!units.empty()) read.unit_in_metres = parseLengthUnit(units, "units");
   read.layer_rules = parseLayerRules(layers, "--layers");
   VectorMap map = readFloorplan(path, read);

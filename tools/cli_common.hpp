@@ -39,9 +39,10 @@ void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& j);
 /// what was read as what when materials came from layer names (per layer: features, segments,
 /// material or why ignored), with its notes and warnings, and warns when the plan's extent is
 /// implausible for a building (naming the units read and --units); with `warning` given, that
-/// extent warning (empty when none) goes there instead of stderr.
+/// extent warning (empty when none) goes there instead of stderr. `clutter`: read the CLUTTER layer
+/// of our plans as walls too (FloorplanReadOptions::clutter).
 VectorMap readPlan(const std::string& path, const std::string& units, const std::string& layers, bool quiet = false,
-                   std::string* warning = nullptr);
+                   std::string* warning = nullptr, bool clutter = true);
 
 /// Adds --units to a verb that reads floorplans (help text shared).
 void addUnitsOption(CLI::App& cmd, std::string& units);

@@ -8,9 +8,11 @@
 #include <string>
 
 #include "cli_common.hpp"
+#include "cli_georef.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/io/carmen.hpp"
 #include "glassmap/io/floorplan.hpp"
+#include "glassmap/io/floorplan_extras.hpp"
 #include "glassmap/io/log.hpp"
 #include "glassmap/io/ros2_log.hpp"
 
@@ -23,6 +25,7 @@ struct ConvertArgs {
   std::string in, out;
   bool quiet = false;
   std::string units, layers;
+  cli::GeorefArgs georef;            // floorplans
   std::string storage, compression;  // bag output
   LogReadOptions read;               // bag input
 };
@@ -72,10 +75,15 @@ void run(const ConvertArgs& args) {
   if (isRos2Bag(args.in) || isCarmenName(args.in) || !args.storage.empty() || !args.compression.empty())
     return convertLog(args);
   const FloorplanFormat format = floorplanFormatFromPath(args.out);  // fail before reading
-  const VectorMap map = cli::readPlan(args.in, args.units == "0" ? "" : args.units, args.layers, args.quiet);
+  const std::optional<FloorplanGeoref> georef = cli::georefOf(args.georef);
+  VectorMap map = cli::readPlan(args.in, args.units == "0" ? "" : args.units, args.layers, args.quiet, nullptr,
+                                /*clutter=*/false);
   if (map.segments.empty()) throw Error("no line segments found in floorplan", args.in);
-  writeFloorplan(args.out, map);
+  FloorplanExtras extras = readFloorplanExtras(args.in);
+  cli::undoInputOrigin(args.georef, map, extras, args.quiet);
+  writeFloorplan(args.out, map, extras, georef ? &*georef : nullptr);
   if (args.quiet) return;
+  if (georef) std::printf("%s\n", cli::georefSummary(*georef).c_str());
   const Eigen::AlignedBox2d b = map.bounds();
   std::printf("read %s: %zu segments (%zu wall, %zu glass), x %.3f .. %.3f m, y %.3f .. %.3f m\n", args.in.c_str(),
               map.segments.size(), map.count(Material::Wall), map.count(Material::Glass), b.min().x(), b.max().x(),
@@ -117,6 +125,7 @@ const cli::Registrar reg(20, [](CLI::App& app) {
                   "$INSUNITS; GDAL's default DXF header says inches): m, cm, mm, in, ft, us-ft, ... or metres\n"
                   "per unit (0 = the file's own); default: the file's own, metres when it declares none");
   cli::addLayersOption(*sub, args->layers);
+  cli::addGeorefOptions(*sub, args->georef, /*input=*/true);
   sub->add_flag("-q,--quiet", args->quiet, "print nothing on success");
   sub->callback([args] { run(*args); });
 });

@@ -30,7 +30,7 @@ nlohmann::json scoresJson(const eval::DetectionScores& s) {
 }
 
 void run(const EvalCellsArgs& args) {
-  const VectorMap truth = cli::readPlan(args.truth, args.units, args.layers, args.quiet);
+  const VectorMap truth = cli::readPlan(args.truth, args.units, args.layers, args.quiet, nullptr, /*clutter=*/false);
   const LabelRaster raster = readLabelRaster(args.labels);
   grid::GridGeometry g;
   g.width = raster.width;

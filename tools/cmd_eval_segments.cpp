@@ -37,8 +37,8 @@ nlohmann::json scoresJson(const eval::MaterialScores& s) {
 }
 
 void run(const EvalSegmentsArgs& args) {
-  const VectorMap truth = cli::readPlan(args.truth, args.units, args.layers, args.quiet);
-  const VectorMap pred = cli::readPlan(args.pred, "", args.layers, args.quiet);
+  const VectorMap truth = cli::readPlan(args.truth, args.units, args.layers, args.quiet, nullptr, /*clutter=*/false);
+  const VectorMap pred = cli::readPlan(args.pred, "", args.layers, args.quiet, nullptr, /*clutter=*/false);
   const eval::SegmentEvalResult r = eval::evaluateSegments(truth, pred, args.options);
   // Recall against the truth the log had in line of sight; precision stays the full figure.
   eval::SegmentEvalResult seen;

@@ -24,19 +24,20 @@ struct LocalizeArgs {
   std::string map, log, out, json, spread;
   std::string model = "glass";
   std::string glass_as = "opaque";
-  int particles = 2000;
-  int min_particles = 100;
+  int particles = localize::FilterOptions{}.max_particles;
+  int min_particles = localize::FilterOptions{}.min_particles;
   bool fixed = false;
-  int beams = 15;
+  int beams = localize::LocalizeOptions{}.beams;
   std::string init;
   std::string units, layers;
   std::string laser_offset;
   std::uint64_t seed = 1;
-  double sigma_hit = 0.05;
+  double sigma_hit = sensor::SensorParams{}.sigma_hit;
   bool sigma_hit_given = false;
   std::string sensor;
-  double global_temperature = 30.0;
+  double global_temperature = localize::FilterOptions{}.global_temperature;
   bool no_inject = false;
+  bool no_self_calibrate = false;
   bool inject_always = false;
   double lost_share = localize::FilterOptions{}.contradiction_share;
   bool quiet = false;
@@ -68,11 +69,16 @@ void run(const LocalizeArgs& a) {
   opt.filter.max_particles = a.particles;
   opt.filter.min_particles = a.min_particles;
   opt.filter.adaptive = !a.fixed;
-  opt.filter.inject = !a.no_inject;
-  opt.filter.inject_only_when_contradicted = !a.inject_always;
+  if (a.no_inject && a.inject_always)
+    throw Error("--no-inject and --inject-always exclude each other", {}, 0, "inject-always");
+  opt.filter.recovery = a.no_inject       ? localize::Recovery::None
+                        : a.inject_always ? localize::Recovery::Inject
+                                          : localize::Recovery::Probe;
   opt.filter.contradiction_share = a.lost_share;
   opt.filter.seed = a.seed;
   opt.filter.global_temperature = a.global_temperature;
+  // The model's parameters come from the data: a given profile, else refits on the way.
+  opt.self_calibration.enabled = a.sensor.empty() && !a.no_self_calibrate;
   if (!a.init.empty()) {
     opt.init = cli::parsePose(a.init, "init");
     // A start outside the plan is a wrong frame or wrong units, never a run to trust.
@@ -101,8 +107,21 @@ void run(const LocalizeArgs& a) {
     std::printf("%-18s %12.1f\n", "mean particles", r.mean_particles);
     std::printf("%-18s %12.3f\n", "ms per update", 1e3 * r.seconds_per_update);
     std::printf("%-18s %12.1f\n", "real-time factor", r.realTimeFactor());
-    std::printf("%-18s %12zu\n", "injected", r.injected);
-    std::printf("%-18s %12zu\n", "relocalizations", r.relocalizations);
+    std::printf("%-18s %12zu  (random particles drawn: global start, probes)\n", "injected", r.injected);
+    std::printf("%-18s %12zu  (looks for the robot elsewhere when the scans stopped fitting)\n", "probes", r.probes);
+    std::printf("%-18s %12zu  (jumps of the estimate to another hypothesis)\n", "relocalizations", r.relocalizations);
+    const sensor::SensorParams& p = r.final_params;
+    const double sum = p.z_hit + p.z_short + p.z_max + p.z_rand;
+    std::printf(
+        "%-18s %12.4f  (hit %.3f, short %.3f, max %.3f, random %.3f; glass lobe %.2f at %.1f deg, floor %.3f)\n",
+        "sigma_hit m", p.sigma_hit, p.z_hit / sum, p.z_short / sum, p.z_max / sum, p.z_rand / sum, p.direct_peak,
+        p.direct_sigma_deg, p.direct_floor);
+    std::size_t applied = 0;
+    for (const auto& f : r.calibrations) applied += f.applied;
+    std::printf("%-18s %12zu  (%s)\n", "self-calibrations", applied,
+                !opt.self_calibration.enabled ? (a.sensor.empty() ? "off" : "off: --sensor given")
+                : applied                     ? "the model refitted to this log at trusted poses"
+                                              : "no fit yet: too little trusted travel");
     if (r.converged)
       std::printf("%-18s %12s  (one tight mode from %.1f s on)\n", "converged", "yes", r.converged_at);
     else
@@ -150,24 +169,30 @@ const cli::Registrar reg(60, [](CLI::App& app) {
                   "profile's range noise, at least 2 cm (a floorplan is never drawn to the millimetre)")
       ->check(CLI::ExistingFile);
   sub->add_option("--global-temperature", a->global_temperature,
-                  "global localization: divide log-likelihoods by this until the cloud converges")
+                  "global localization and probes: a broad hypothesis divides its particles' log-likelihoods by\n"
+                  "this until it splits into modes")
       ->capture_default_str();
-  sub->add_flag("--no-inject", a->no_inject, "never inject random particles (no recovery)");
+  sub->add_flag("--no-inject", a->no_inject, "never draw random particles while tracking (no recovery)");
+  sub->add_flag("--no-self-calibrate", a->no_self_calibrate,
+                "keep the sensor model's default parameters. By default (without --sensor) the range noise,\n"
+                "mixture weights and glass response are refitted to the log at the poses the filter trusts\n"
+                "(after 1 m of trusted travel, then each time it tripled)");
   sub->add_option("--lost-share", a->lost_share,
-                  "recovery waits until this share of the readings at the best particle (smoothed) runs\n"
-                  "through a wall")
+                  "a probe also starts when this share of the readings at the best particle (smoothed) runs\n"
+                  "over 0.5 m through a wall and the sensor model cannot explain them")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   sub->add_flag("--inject-always", a->inject_always,
-                "recover (random particles, re-initialisation) whenever the likelihood drops, as plain augmented\n"
-                "MCL does. By default recovery waits until the map contradicts the estimate: more than 15% of the\n"
-                "readings at the best particle run over 0.5 m through a wall (clutter only shortens readings)");
+                "recover as plain augmented MCL does: random particles into the cloud whenever the likelihood\n"
+                "drops, a global restart when it collapses. By default a drop (or readings through walls)\n"
+                "starts a probe: random particles as a rival hypothesis with a prior of 1e-4, which replaces\n"
+                "the tracked cloud only when the scans that follow favour it by more than that prior");
   sub->add_option("--seed", a->seed, "random seed; the same seed gives the same estimate")->capture_default_str();
   sub->add_option("--json", a->json, "also write the summary as JSON");
   sub->add_option("--spread", a->spread,
                   "also write the particle spread per scan as CSV: t, spread_m (weighted RMS distance of\n"
                   "the particles from the estimate), particles, corrected (1 = measurement update),\n"
-                  "relocalizations (global re-initialisations so far), converged (1 = the cloud is one tight\n"
+                  "relocalizations (jumps to another hypothesis so far), converged (1 = the cloud is one tight\n"
                   "mode from this scan to the end; poses with 0 came before convergence)");
   sub->add_flag("-q,--quiet", a->quiet, "print nothing on success");
   sub->callback([a] { run(*a); });

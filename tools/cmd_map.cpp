@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.hpp"
+#include "cli_georef.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/io/log.hpp"
@@ -34,6 +35,7 @@ struct MapArgs {
   std::string sensor;
   pipeline::MapOptions options;
   LogReadOptions read;
+  cli::GeorefArgs georef;  // the floorplan files in the building's CRS
 };
 
 void run(MapArgs& args) {
@@ -41,6 +43,7 @@ void run(MapArgs& args) {
   const bool show_progress = !args.quiet && cli::stderrIsTerminal();
   // Fail now, not after the whole run, when the output cannot be written.
   checkWritableDirectory(args.out);
+  const std::optional<FloorplanGeoref> georef = cli::georefOf(args.georef);
   LogReadOptions read = args.read;
   read.carmen.laser_id = args.laser_id;
   read.carmen.max_memory_bytes = static_cast<std::size_t>(args.max_memory_mb * 1e6);  // the log counts too
@@ -88,7 +91,7 @@ void run(MapArgs& args) {
   const glass::PhantomStats& phantom = result.phantoms;
 
   const fs::path dir(args.out);
-  const std::vector<fs::path> files = pipeline::writeMapFiles(dir, result, args.vectorize);
+  const std::vector<fs::path> files = pipeline::writeMapFiles(dir, result, args.vectorize, georef ? &*georef : nullptr);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::size_t peak = pipeline::peakMemoryBytes();
 
@@ -245,6 +248,7 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_option("--calibration-rounds", args->options.calibration_rounds, "fit and re-map this many times")
       ->capture_default_str()
       ->check(CLI::Range(1, 5));
+  cli::addGeorefOptions(*cmd, args->georef);
   cmd->add_flag("-q,--quiet", args->quiet, "no progress, no summary");
   cmd->callback([args] { run(*args); });
 });

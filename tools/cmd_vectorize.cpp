@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli_common.hpp"
+#include "cli_georef.hpp"
 #include "glassmap/core/angles.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
@@ -27,6 +28,7 @@ struct VectorizeArgs {
   double occupied_thresh = 0.65, free_thresh = 0.196;
   vector::OccupancyOptions occupancy;
   bool no_regularize = false, quiet = false;
+  cli::GeorefArgs georef;
   vector::VectorizeOptions options;
 };
 
@@ -89,6 +91,7 @@ std::vector<std::string> splitFormats(const std::string& list) {
 
 void run(const VectorizeArgs& args) {
   const std::vector<std::string> formats = splitFormats(args.formats);
+  const std::optional<FloorplanGeoref> georef = cli::georefOf(args.georef);
   const Input input = readInput(args);
   const vector::LabelGrid& grid = input.grid;
   vector::VectorizeOptions options = args.options;
@@ -98,7 +101,11 @@ void run(const VectorizeArgs& args) {
   r.map.name = fs::path(args.labels).parent_path().filename().string();
   const fs::path stem = outputStem(args.out);
   if (stem.has_parent_path()) fs::create_directories(stem.parent_path());
-  const auto written = vector::writeFloorplanSet(stem, r.map, formats);
+  r.extras.clutter = vector::placeOnPose(std::move(r.extras.clutter), input.origin);
+  for (DoorOpening& d : r.extras.doors) d.a = input.origin * d.a, d.b = input.origin * d.b;
+  for (RoomPolygon& room : r.extras.rooms)
+    for (Vec2& p : room.ring) p = input.origin * p;
+  const auto written = vector::writeFloorplanSet(stem, r.map, formats, r.extras, georef ? &*georef : nullptr);
 
   const auto& s = r.stats;
   const vector::OccupancyStats& o = input.occupancy;
@@ -119,6 +126,13 @@ void run(const VectorizeArgs& args) {
       {"corners", s.corners},
       {"dropped", s.dropped},
       {"dominant_axis_deg", s.dominant_axis_deg},
+      {"directions_deg", s.directions_deg},
+      {"lines", s.lines},
+      {"bridged", s.bridged},
+      {"openings", s.openings},
+      {"clutter_segments", r.extras.clutter.segments.size()},
+      {"doors", r.extras.doors.size()},
+      {"rooms", r.extras.rooms.size()},
       {"seconds", s.seconds}};
   if (!args.json.empty()) cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
@@ -135,6 +149,10 @@ void run(const VectorizeArgs& args) {
               s.regions, s.bic_splits, s.merges, s.face_merges, s.dropped);
   std::printf("%-22s %.1f deg, %zu segments snapped, %zu ends joined\n", "axes", s.dominant_axis_deg, s.regularized,
               s.corners);
+  std::printf("%-22s %zu lines, %zu gaps bridged, %zu openings, %zu doors, %zu rooms, %zu clutter segments\n",
+              "structure", s.lines, s.bridged, s.openings, r.extras.doors.size(), r.extras.rooms.size(),
+              r.extras.clutter.segments.size());
+  if (georef) std::printf("%-22s %s\n", "georeference", cli::georefSummary(*georef).c_str());
   std::printf("%-22s %.3f s\n", "time", s.seconds);
   for (const auto& p : written) std::printf("%-22s %s\n", "wrote", p.string().c_str());
 }
@@ -186,6 +204,9 @@ const cli::Registrar reg(50, [](CLI::App& app) {
   cmd->add_option("--formats", args->formats, "comma-separated: gpkg,geojson,json,shp,fgb,dxf,svg,png,pdf")
       ->capture_default_str();
   cmd->add_flag("--no-regularize", args->no_regularize, "keep fitted directions (no snapping to the dominant axes)");
+  cmd->add_flag(
+      "--no-structure", [args](std::int64_t) { args->options.structure.enabled = false; },
+      "plain fit: every face of free space is a wall (no clutter layer, no bridging, no doors)");
   cmd->add_option("--corner-snap", args->options.corner_snap, "join wall ends this close to another wall [m] (0: off)")
       ->capture_default_str();
   cmd->add_option("--max-wall-thickness", args->options.max_wall_thickness,
@@ -196,6 +217,13 @@ const cli::Registrar reg(50, [](CLI::App& app) {
       ->capture_default_str();
   addMaterialOptions(cmd, "glass", args->options.glass);
   addMaterialOptions(cmd, "wall", args->options.wall);
+  cmd->add_option("--line-tolerance", args->options.structure.line_tolerance,
+                  "structure: pieces of one direction whose offsets differ by less share a wall line [m]")
+      ->capture_default_str();
+  cmd->add_option("--min-line-support", args->options.structure.min_line_support,
+                  "structure: a wall line whose pieces sum to less is clutter unless it joins walls [m]")
+      ->capture_default_str();
+  cli::addGeorefOptions(*cmd, args->georef);
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing");
   cmd->callback([args] { run(*args); });

@@ -2,9 +2,11 @@
 """Localization on real logs against their own floorplans (issue 14): each CARMEN log of
 ../shared/data/real is mapped once (`glassmap map`, its floorplan is the map to localize in), then
 its odometry is replaced by the SLAM-corrected poses ("perfect") or by them made worse on purpose
-("drift": 3% scale error and 1 deg/m heading drift; "drift+noise": plus random-walk noise), and
-`glassmap localize` runs from the first corrected pose. The corrected poses are the truth.
-Prints ATE RMSE / max [m] per log, odometry and option set.
+("drift": 3% scale error and 1 deg/m heading drift; "drift+noise": plus random-walk noise;
+"subsampled": drift+noise with only the scans 1 m or 30 deg apart kept), and `glassmap localize`
+runs from the first corrected pose. The corrected poses are the truth (ATE over the scans kept).
+"lost" = some estimate more than 1 m from the truth. Prints ATE RMSE / max [m] per log, odometry
+and option set, and a Markdown table; writes OUT/results.json.
 
 Usage: tools/real_loc.py [--glassmap build/tools/glassmap] [--out out/real_loc]
                          [--variants perfect,drift] [--options "default=;no-inject=--no-inject"] [log ...]
@@ -40,8 +42,20 @@ def read_poses(path):
     return out
 
 
+def subsample(poses, step_m=1.0, step_rad=math.radians(30)):
+    """Indices of the poses kept: the first, then each 1 m or 30 deg (true motion) from the last kept."""
+    keep = [0]
+    for i, (_, x, y, th) in enumerate(poses):
+        _, x0, y0, th0 = poses[keep[-1]]
+        if math.hypot(x - x0, y - y0) >= step_m or abs(math.atan2(math.sin(th - th0), math.cos(th - th0))) >= step_rad:
+            keep.append(i)
+    return keep
+
+
 def make_odometry(poses, variant, seed):
     """Odometry poses from the corrected ones: perfect, or with scale error, heading drift, noise."""
+    if variant == "subsampled":
+        variant = "drift+noise"
     if variant == "perfect":
         return [(x, y, th) for _, x, y, th in poses]
     rng = random.Random(seed)
@@ -68,9 +82,11 @@ def make_odometry(poses, variant, seed):
     return out
 
 
-def write_log(src, dst, odom):
-    """The log with each FLASER line's odometry fields replaced, ODOM lines dropped."""
+def write_log(src, dst, odom, keep=None):
+    """The log with each FLASER line's odometry fields replaced, ODOM lines dropped; with `keep`
+    (indices of FLASER lines), only those scans."""
     k = 0
+    keep = set(keep) if keep is not None else None
     with gzip.open(src, "rt") as f, open(dst, "w") as g:
         for line in f:
             t = line.split()
@@ -81,6 +97,8 @@ def write_log(src, dst, odom):
                 x, y, th = odom[k]
                 t[i + 3], t[i + 4], t[i + 5] = f"{x:.6f}", f"{y:.6f}", f"{th:.6f}"
                 k += 1
+                if keep is not None and k - 1 not in keep:
+                    continue
                 line = " ".join(t) + "\n"
             g.write(line)
 
@@ -95,7 +113,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--glassmap", default=os.path.join(ROOT, "build", "tools", "glassmap"))
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "real_loc"))
-    ap.add_argument("--variants", default="perfect,drift,drift+noise")
+    ap.add_argument("--variants", default="perfect,drift,drift+noise,subsampled")
     ap.add_argument("--options", default="default=;no-inject=--no-inject",
                     help="name=extra localize arguments, separated by ';'")
     ap.add_argument("logs", nargs="*", default=LOGS)
@@ -116,7 +134,8 @@ def main():
         init = f"{poses[0][1]},{poses[0][2]},{poses[0][3]}"
         for variant in a.variants.split(","):
             log = os.path.join(base, f"{variant}.clf")
-            write_log(src, log, make_odometry(poses, variant, seed=1))
+            keep = subsample(poses) if variant == "subsampled" else None
+            write_log(src, log, make_odometry(poses, variant, seed=1), keep)
             for opt_name, extra in option_sets:
                 est = os.path.join(base, f"{variant}-{opt_name}.tum")
                 js = os.path.join(base, f"{variant}-{opt_name}.json")
@@ -125,13 +144,24 @@ def main():
                 ej = os.path.join(base, f"{variant}-{opt_name}-ate.json")
                 subprocess.run([gm, "eval", "traj", "--truth", truth, est, "--json", ej, "-q"], check=True)
                 ate = json.load(open(ej))
-                row = {"log": name, "odometry": variant, "options": opt_name,
-                       "rmse": ate["rmse"], "max": ate["max"]}
+                row = {"log": name, "odometry": variant, "options": opt_name, "scans": len(keep or poses),
+                       "rmse": ate["rmse"], "max": ate["max"], "lost": ate["max"] > 1.0}
                 results.append(row)
                 print(f"{name:14s} {variant:12s} {opt_name:12s} ATE RMSE {row['rmse']:.3f} m, max {row['max']:.3f} m",
                       flush=True)
     with open(os.path.join(a.out, "results.json"), "w") as f:
         json.dump(results, f, indent=1)
+    variants = a.variants.split(",")
+    print()
+    print("| log | options | " + " | ".join(variants) + " |")
+    print("| --- | --- | " + " | ".join("---" for _ in variants) + " |")
+    for name in a.logs:
+        for opt_name, _ in option_sets:
+            cells = []
+            for v in variants:
+                r = next(r for r in results if r["log"] == name and r["odometry"] == v and r["options"] == opt_name)
+                cells.append(f"{r['rmse']:.3f} / {r['max']:.2f}" + (" (lost)" if r["lost"] else ""))
+            print(f"| {name} | {opt_name} | " + " | ".join(cells) + " |")
 
 
 if __name__ == "__main__":

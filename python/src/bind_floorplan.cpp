@@ -137,7 +137,7 @@ void bindFloorplan(py::module_& m) {
 
   m.def(
       "read_floorplan",
-      [](const py::object& path, const py::object& units, const py::object& layers) {
+      [](const py::object& path, const py::object& units, const py::object& layers, bool clutter) {
         Floorplan f;
         const std::filesystem::path p = toPath(path, "read_floorplan(path)");
         f.path = p.string();
@@ -146,6 +146,7 @@ void bindFloorplan(py::module_& m) {
         FloorplanReadOptions read;
         read.units = &assumed;
         read.report = &report;
+        read.clutter = clutter;
         if (!units.is_none()) {
           read.unit_in_metres = parseLengthUnit(std::string(py::str(units)), "units");
           f.units_given = true;
@@ -163,11 +164,13 @@ void bindFloorplan(py::module_& m) {
           throw py::error_already_set();
         return f;
       },
-      py::arg("path"), py::arg("units") = py::none(), py::arg("layers") = py::none(),
+      py::arg("path"), py::arg("units") = py::none(), py::arg("layers") = py::none(), py::arg("clutter") = true,
       "Reads a floorplan (any OGR line source: GPKG, GeoJSON, DXF, Shapefile, FlatGeobuf) as the command line\n"
       "does. units: m, cm, mm, in, ft, us-ft, yd or metres per unit (default: the file's own); layers: CAD\n"
-      "layer rules as --layers (\"glass=A-GLAZ*;wall=A-WALL*;ignore=A-FURN*\"). A plan whose extent is\n"
-      "implausible for a building warns (UserWarning) and localize() refuses it unless units were given.");
+      "layer rules as --layers (\"glass=A-GLAZ*;wall=A-WALL*;ignore=A-FURN*\"); clutter: read the CLUTTER\n"
+      "layer of a glassmap plan as walls (every surface a laser sees, as localize reads it), False: the\n"
+      "building alone. A plan whose extent is implausible for a building warns (UserWarning) and\n"
+      "localize() refuses it unless units were given.");
 
   m.def(
       "write_floorplan",

@@ -121,13 +121,21 @@ void bindLocalize(py::module_& m) {
         o.get("beams", opt.beams);
         if (const py::object off = o.take("laser_offset"))
           opt.T_base_laser = poseFrom(off, "localize(): option 'laser_offset'");
-        double sigma_hit = 0.05;
+        double sigma_hit = sensor::SensorParams{}.sigma_hit;
         const bool sigma_hit_given = o.positive("sigma_hit", sigma_hit);
         const py::object sensor = o.take("sensor");
         o.get("global_temperature", opt.filter.global_temperature);
-        if (o.get("no_inject", flag)) opt.filter.inject = !flag;
+        bool no_inject = false, inject_always = false;
+        o.get("no_inject", no_inject);
         o.range("lost_share", opt.filter.contradiction_share, 0.0, 1.0);
-        if (o.get("inject_always", flag)) opt.filter.inject_only_when_contradicted = !flag;
+        o.get("inject_always", inject_always);
+        if (no_inject && inject_always)
+          throw py::value_error("localize(): options 'no_inject' and 'inject_always' exclude each other");
+        opt.filter.recovery = no_inject       ? localize::Recovery::None
+                              : inject_always ? localize::Recovery::Inject
+                                              : localize::Recovery::Probe;
+        bool no_self_calibrate = false;
+        o.get("no_self_calibrate", no_self_calibrate);
         o.get("seed", opt.filter.seed);
         o.finish();
 
@@ -146,6 +154,7 @@ void bindLocalize(py::module_& m) {
               sensor::paramsFromProfile(profileFrom(sensor, "localize(): option 'sensor'"), options.sensor);
           if (sigma_hit_given) options.sensor.sigma_hit = sigma_hit;  // an explicit option wins
         }
+        opt.self_calibration.enabled = !sensor && !no_self_calibrate;  // as the command line
         if (!init.is_none()) {
           opt.init = poseFrom(init, "localize(init)");
           pipeline::checkInitialPose(plan.map, *opt.init, plan.path);
@@ -165,7 +174,7 @@ void bindLocalize(py::module_& m) {
       "underscores: model ('glass', 'glass-paper', 'beam', 'field'), glass_as ('opaque', 'invisible'),\n"
       "particles, min_particles, fixed_count, beams, laser_offset (x, y, theta), units, layers,\n"
       "sigma_hit [m], sensor (a profile file or dict), global_temperature, no_inject, lost_share,\n"
-      "inject_always, seed. Returns a LocalizeResult (poses N x 3, spread, summary, ...).");
+      "inject_always, no_self_calibrate, seed. Returns a LocalizeResult (poses N x 3, spread, summary, ...).");
 
   m.def(
       "calibrate",

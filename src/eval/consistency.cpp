@@ -15,8 +15,9 @@ namespace glassmap::eval {
 namespace {
 
 struct Tally {
-  std::size_t scans = 0, returns = 0, explained = 0, at_glass = 0, short_of_plan = 0, through_wall = 0;
+  std::size_t scans = 0, returns = 0, explained = 0, at_glass = 0, short_of_plan = 0, through_wall = 0, near = 0;
   Tally& operator+=(const Tally& o) {
+    near += o.near;
     scans += o.scans;
     returns += o.returns;
     explained += o.explained;
@@ -58,6 +59,46 @@ void scoreBeam(const RayCaster& caster, const Vec2& origin, const Vec2& dir, dou
   ++t.through_wall;
 }
 
+// Segments by the buckets of a uniform grid they pass near: which segments lie within a distance
+// of a point.
+class NearIndex {
+ public:
+  NearIndex(const VectorMap& plan, double reach) : plan_(plan), reach_(reach) {
+    const Eigen::AlignedBox2d box = plan.bounds();
+    if (box.isEmpty()) return;
+    lo_ = box.min() - Vec2::Constant(2 * reach);
+    const Vec2 size = box.sizes() + Vec2::Constant(4 * reach);
+    cell_ = std::max({0.5, 4 * reach, std::sqrt(size.x() * size.y() / std::max<double>(1, plan.segments.size()))});
+    nx_ = static_cast<int>(size.x() / cell_) + 1;
+    ny_ = static_cast<int>(size.y() / cell_) + 1;
+    buckets_.resize(static_cast<std::size_t>(nx_) * ny_);
+    for (std::size_t i = 0; i < plan.segments.size(); ++i) {
+      const MapSegment& s = plan.segments[i];
+      const Vec2 a = s.a.cwiseMin(s.b) - Vec2::Constant(reach), b = s.a.cwiseMax(s.b) + Vec2::Constant(reach);
+      for (int y = cellOf(a.y() - lo_.y(), ny_); y <= cellOf(b.y() - lo_.y(), ny_); ++y)
+        for (int x = cellOf(a.x() - lo_.x(), nx_); x <= cellOf(b.x() - lo_.x(), nx_); ++x)
+          buckets_[static_cast<std::size_t>(y) * nx_ + x].push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  bool near(const Vec2& p) const {
+    if (buckets_.empty()) return false;
+    const double fx = (p.x() - lo_.x()) / cell_, fy = (p.y() - lo_.y()) / cell_;
+    if (!(fx >= 0 && fy >= 0 && fx < nx_ && fy < ny_)) return false;
+    for (const std::uint32_t i : buckets_[static_cast<std::size_t>(fy) * nx_ + static_cast<int>(fx)])
+      if (plan_.segments[i].distanceTo(p) <= reach_) return true;
+    return false;
+  }
+
+ private:
+  int cellOf(double v, int n) const { return std::clamp(static_cast<int>(v / cell_), 0, n - 1); }
+  const VectorMap& plan_;
+  double reach_;
+  Vec2 lo_ = Vec2::Zero();
+  double cell_ = 1.0;
+  int nx_ = 0, ny_ = 0;
+  std::vector<std::vector<std::uint32_t>> buckets_;
+};
+
 }  // namespace
 
 ConsistencyResult rayConsistency(const LaserLog& log, const VectorMap& plan, const ConsistencyOptions& options) {
@@ -86,6 +127,7 @@ ConsistencyResult rayConsistency(const LaserLog& log, const VectorMap& plan, con
   for (std::size_t k = 0; k < take; ++k) chosen.push_back(take == n ? k : k * n / take);
 
   const RayCaster caster(plan);
+  const NearIndex near(plan, options.tolerance);
   const Tally total = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, chosen.size(), 16), Tally{},
       [&](const tbb::blocked_range<std::size_t>& range, Tally t) {
@@ -97,7 +139,9 @@ ConsistencyResult rayConsistency(const LaserLog& log, const VectorMap& plan, con
             const double reading = scan.ranges[i];
             if (reading < options.min_range || reading > options.max_range) continue;
             const double a = scan.laser_pose.theta + scan.beamAngle(i);
-            scoreBeam(caster, scan.laser_pose.t, Vec2(std::cos(a), std::sin(a)), reading, options.tolerance, t);
+            const Vec2 dir(std::cos(a), std::sin(a));
+            scoreBeam(caster, scan.laser_pose.t, dir, reading, options.tolerance, t);
+            t.near += near.near(scan.laser_pose.t + reading * dir);
           }
         }
         return t;
@@ -110,6 +154,8 @@ ConsistencyResult rayConsistency(const LaserLog& log, const VectorMap& plan, con
   r.short_of_plan = total.short_of_plan;
   r.through_wall = total.through_wall;
   r.explained_share = r.returns > 0 ? static_cast<double>(r.explained) / static_cast<double>(r.returns) : 0.0;
+  r.near_segment = total.near;
+  r.near_share = r.returns > 0 ? static_cast<double>(r.near_segment) / static_cast<double>(r.returns) : 0.0;
   return r;
 }
 

@@ -157,6 +157,25 @@ RayCaster::RayCaster(const VectorMap& map, RayCasterOptions options) : map_(map)
     pairs += (lists[c].size() + 1) / 2;
   }
   cell_start_[lists.size()] = static_cast<std::uint32_t>(pairs);
+  // The batch kernels' layout: unpadded lists, cells with a border ring (span -1).
+  spans_.assign(static_cast<std::size_t>(nx_ + 2) * static_cast<std::size_t>(ny_ + 2), -1);
+  for (int iy = 0; iy < ny_; ++iy) {
+    for (int ix = 0; ix < nx_; ++ix) {
+      const auto& list = lists[static_cast<std::size_t>(iy) * nx_ + ix];
+      const auto begin = static_cast<std::int64_t>(flat_.size());
+      for (const std::uint32_t id : list) {
+        const Seg& sg = segs_[id];
+        flat_.push_back({sg.ax, sg.ay, sg.dx, sg.dy});
+        flat_ids_.push_back(static_cast<std::int32_t>(id));
+      }
+      const auto end = static_cast<std::int64_t>(flat_.size());
+      spans_[static_cast<std::size_t>(iy + 1) * static_cast<std::size_t>(nx_ + 2) + static_cast<std::size_t>(ix + 1)] =
+          begin | (end << 32);
+    }
+  }
+  if (flat_.size() >= (std::size_t{1} << 31))
+    throw Error("the ray caster's cell lists exceed 2^31 entries: the map is too large for one index", {}, 0,
+                "segments");
   items_.resize(pairs);
   cell_items_.resize(2 * pairs);
   std::size_t k = 0;

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "glassmap/core/error.hpp"
 
 namespace glassmap::grid {
@@ -24,6 +27,17 @@ std::unique_ptr<CellCounts[]> HitMissGrid::allocateTile() {
   return std::make_unique<CellCounts[]>(kTileCells);  // value-initialised: zero counts
 }
 
+namespace {
+
+void addTile(CellCounts* dst, const CellCounts* src) {
+  for (int i = 0; i < HitMissGrid::kTileCells; ++i) {
+    dst[i].hits = static_cast<std::uint16_t>(std::min<unsigned>(0xFFFF, unsigned{dst[i].hits} + src[i].hits));
+    dst[i].misses = static_cast<std::uint16_t>(std::min<unsigned>(0xFFFF, unsigned{dst[i].misses} + src[i].misses));
+  }
+}
+
+}  // namespace
+
 void HitMissGrid::merge(const HitMissGrid& other) {
   if (other.tiles_.size() != tiles_.size()) throw Error("merging grids of different geometry");
   for (std::size_t t = 0; t < tiles_.size(); ++t) {
@@ -31,11 +45,27 @@ void HitMissGrid::merge(const HitMissGrid& other) {
     if (!src) continue;
     auto& dst = tiles_[t];
     if (!dst) dst = allocateTile();
-    for (int i = 0; i < kTileCells; ++i) {
-      dst[i].hits = static_cast<std::uint16_t>(std::min<unsigned>(0xFFFF, unsigned{dst[i].hits} + src[i].hits));
-      dst[i].misses = static_cast<std::uint16_t>(std::min<unsigned>(0xFFFF, unsigned{dst[i].misses} + src[i].misses));
+    addTile(dst.get(), src.get());
+  }
+}
+
+void HitMissGrid::merge(HitMissGrid&& other) {
+  if (other.tiles_.size() != tiles_.size()) throw Error("merging grids of different geometry");
+  // Tiles only the other grid has move over; tiles both have are added, in parallel (each tile
+  // on its own: the sums are the same whatever the split).
+  for (std::size_t t = 0; t < tiles_.size(); ++t) {
+    if (other.tiles_[t] && !tiles_[t]) {
+      tiles_[t] = std::move(other.tiles_[t]);
+      ++allocated_;
     }
   }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles_.size(), 64),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t t = r.begin(); t != r.end(); ++t)
+                        if (other.tiles_[t]) addTile(tiles_[t].get(), other.tiles_[t].get());
+                    });
+  for (auto& tile : other.tiles_) tile.reset();
+  other.allocated_ = 0;
 }
 
 std::size_t HitMissGrid::observedCells() const {

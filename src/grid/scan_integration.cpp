@@ -5,6 +5,8 @@
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 
+#include <tbb/parallel_reduce.h>
+
 namespace glassmap::grid {
 
 const char* toString(NoReturnMode mode) { return mode == NoReturnMode::Open ? "open" : "angular"; }
@@ -16,13 +18,19 @@ NoReturnMode parseNoReturnMode(const std::string& name) {
 }
 
 GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOptions& options, double margin) {
-  Eigen::AlignedBox2d box;
-  for (const LaserScan& scan : log.scans) {
-    box.extend(scan.laser_pose.t);
-    forEachBeam(scan, options, [&](const Beam& beam) {
-      if (!(beam.no_return && options.deferNoReturns())) box.extend(beam.to);
-    });
-  }
+  // Scans in parallel; a box's extension is a min and a max, the same whatever the split.
+  const Eigen::AlignedBox2d box = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, log.scans.size(), 16), Eigen::AlignedBox2d(),
+      [&](const tbb::blocked_range<std::size_t>& r, Eigen::AlignedBox2d b) {
+        for (std::size_t s = r.begin(); s != r.end(); ++s) {
+          b.extend(log.scans[s].laser_pose.t);
+          forEachBeam(log.scans[s], options, [&](const Beam& beam) {
+            if (!(beam.no_return && options.deferNoReturns())) b.extend(beam.to);
+          });
+        }
+        return b;
+      },
+      [](Eigen::AlignedBox2d a, const Eigen::AlignedBox2d& b) { return a.extend(b); });
   if (box.isEmpty()) throw Error("the log holds no scan to map");
   return coveringGeometry(box.min(), box.max(), resolution, margin);
 }
@@ -63,7 +71,7 @@ IntegrationStats integratePass(const LaserLog& log, const BeamOptions& options, 
   });
   IntegrationStats total;
   for (Part<Counts>& part : parts) {
-    merge(part.counts);
+    merge(std::move(part.counts));
     total += part.stats;
   }
   return total;
@@ -83,7 +91,7 @@ IntegrationStats integrateCounts(const LaserLog& log, const BeamOptions& options
           counts.addMiss(x, y);
         }
       },
-      [&](const HitMissGrid& part) { grid.merge(part); });
+      [&](HitMissGrid&& part) { grid.merge(std::move(part)); });
 }
 
 IntegrationStats integrateAngles(const LaserLog& log, const BeamOptions& options, AngleHistograms& histograms,
@@ -101,7 +109,7 @@ IntegrationStats integrateAngles(const LaserLog& log, const BeamOptions& options
           histograms.addMiss(counts, id, bin);
         }
       },
-      [&](const std::vector<std::uint16_t>& part) { histograms.merge(part); });
+      [&](std::vector<std::uint16_t>&& part) { histograms.merge(part); });
 }
 
 }  // namespace glassmap::grid

@@ -135,10 +135,14 @@ void writeDxfHeaderTemplate(const fs::path& path) {
                               group(370, "    -3"),
                               group(390, "F")};
   };
-  std::vector<Group> layers = layer("WALL", 7);
-  const std::vector<Group> glass = layer("GLASS", 4);
-  layers.insert(layers.end(), glass.begin(), glass.end());
-  addToTable(g, "LAYER", layers, 2);
+  std::vector<Group> layers;
+  // The building (WALL, GLASS), then the layers beside it (floorplan_extras.hpp).
+  for (const auto& [name, colour] :
+       {std::pair<const char*, int>{"WALL", 7}, {"GLASS", 4}, {"CLUTTER", 8}, {"DOOR", 3}, {"ROOMS", 5}}) {
+    const std::vector<Group> l = layer(name, colour);
+    layers.insert(layers.end(), l.begin(), l.end());
+  }
+  addToTable(g, "LAYER", layers, 5);
   const std::vector<Group> app{group(0, "APPID"),
                                group(5, handle()),
                                group(330, tableHandle(g, "APPID")),
@@ -260,7 +264,7 @@ double dxfUnitInMetres(const fs::path& dxf) {
   return 0.0;
 }
 
-void addDxfXData(const fs::path& dxf, const VectorMap& map) {
+void addDxfXData(const fs::path& dxf, const VectorMap& map, std::size_t extra_lines) {
   std::vector<Group> g = readGroups(dxf);
   std::vector<Group> out;
   out.reserve(g.size() + map.segments.size() * 7);
@@ -269,7 +273,13 @@ void addDxfXData(const fs::path& dxf, const VectorMap& map) {
   bool in_line = false;
   auto flush = [&] {
     if (!in_line) return;
-    if (entity >= map.segments.size()) throw Error("GDAL wrote more DXF entities than segments", dxf.string());
+    if (entity >= map.segments.size() + extra_lines)
+      throw Error("GDAL wrote more DXF entities than segments", dxf.string());
+    if (entity >= map.segments.size()) {  // the extra layers' lines: no attributes to add
+      ++entity;
+      in_line = false;
+      return;
+    }
     const MapSegment& s = map.segments[entity++];
     auto kv = [](const char* key, auto v) {
       std::string text = std::string(key) + "=";
@@ -296,9 +306,9 @@ void addDxfXData(const fs::path& dxf, const VectorMap& map) {
     if (x.is(2, "ENTITIES") && i > 0 && g[i - 1].is(0, "SECTION")) in_entities = true;
     out.push_back(x);
   }
-  if (entity != map.segments.size())
+  if (entity != map.segments.size() + extra_lines)
     throw Error("GDAL wrote " + std::to_string(entity) + " DXF line entities for " +
-                    std::to_string(map.segments.size()) + " segments",
+                    std::to_string(map.segments.size() + extra_lines) + " segments",
                 dxf.string());
   writeGroups(dxf, out);
 }

@@ -13,7 +13,8 @@
 namespace glassmap::io_detail {
 
 /// Writes GDAL's default DXF header with $INSUNITS 6 (metres), $MEASUREMENT 1 (metric), layers
-/// WALL (colour 7, white/black) and GLASS (colour 4, cyan) and the XDATA application GLASSMAP.
+/// WALL (colour 7, white/black), GLASS (colour 4, cyan), CLUTTER (8, grey), DOOR (3, green) and
+/// ROOMS (5, blue) and the XDATA application GLASSMAP.
 void writeDxfHeaderTemplate(const std::filesystem::path& path);
 
 /// Metres per drawing unit declared by the DXF header's $INSUNITS (1 in, 2 ft, 4 mm, 5 cm, 6 m,
@@ -56,7 +57,8 @@ std::string dxfIgnoreReason(const DxfScan& scan, bool paper_space, std::string_v
                             std::string_view layer);
 
 /// Appends XDATA (application GLASSMAP: material, thickness, pane_angle, support, evidence) to
-/// the i-th line entity of a DXF written by GDAL from map.segments[i].
-void addDxfXData(const std::filesystem::path& dxf, const VectorMap& map);
+/// the i-th line entity of a DXF written by GDAL from map.segments[i]; `extra_lines` line entities
+/// of the extra layers (clutter, doors, room outlines) follow them and get none.
+void addDxfXData(const std::filesystem::path& dxf, const VectorMap& map, std::size_t extra_lines = 0);
 
 }  // namespace glassmap::io_detail

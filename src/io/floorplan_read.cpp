@@ -23,6 +23,7 @@
 #include "dxf_text.hpp"
 #include "floorplan_detail.hpp"
 #include "gdal_util.hpp"
+#include "glassmap/core/angles.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "text_parse.hpp"
@@ -195,41 +196,6 @@ std::string dxfIgnoreReason(OGRFeature& f, const io_detail::DxfScan& scan, const
 
 }  // namespace
 
-namespace {
-
-// What the text of a GeoJSON file says before its features: an old-style "crs" member, and
-// glassmap's marker.
-struct GeoJsonHead {
-  bool has_crs = false;
-  bool glassmap = false;
-};
-GeoJsonHead geoJsonHead(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string head(64 * 1024, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(in.gcount()));
-  const std::size_t features = head.find("\"features\"");
-  const std::string before = head.substr(0, features);
-  return {before.find("\"crs\"") != std::string::npos, before.find(io_detail::kGeoJsonMarker) != std::string::npos};
-}
-
-// A transformation from a geographic CRS to metres of a transverse Mercator centred on (lon, lat):
-// a local metric frame in which a building's plan keeps its shape to well under a millimetre.
-std::unique_ptr<OGRCoordinateTransformation> toLocalMetres(const OGRSpatialReference& geographic, double lon,
-                                                           double lat, const std::string& file) {
-  OGRSpatialReference local;
-  local.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  if (local.SetWellKnownGeogCS("WGS84") != OGRERR_NONE || local.SetTM(lat, lon, 1.0, 0.0, 0.0) != OGRERR_NONE)
-    throw Error("cannot build a local transverse Mercator frame", file);
-  OGRSpatialReference src(geographic);
-  src.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  std::unique_ptr<OGRCoordinateTransformation> ct(OGRCreateCoordinateTransformation(&src, &local));
-  if (!ct) throw Error("cannot transform the plan's geographic coordinates to metres (PROJ)", file);
-  return ct;
-}
-
-}  // namespace
-
 VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& options) {
   io_detail::ensureGdalRegistered();
   GdalErrorCollector errors;
@@ -278,6 +244,7 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
   const bool is_dxf = EQUAL(ds->GetDriverName(), "DXF");
   const double dxf_unit = is_dxf ? io_detail::dxfUnitInMetres(path) : 0.0;
   bool first_layer = true;
+  const bool ours = io_detail::hasFloorplanLayer(*ds);
   Tally tally(report);
   std::map<std::string, std::size_t> unknown_layers;  // CAD layers read as wall by default: features
   std::size_t ignored = 0;
@@ -295,7 +262,7 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
     const OGRSpatialReference* srs = layer->GetSpatialRef();
     std::unique_ptr<OGRCoordinateTransformation> to_local;
     if (is_geojson) {
-      const GeoJsonHead head = geoJsonHead(path);
+      const io_detail::GeoJsonHead head = io_detail::geoJsonHead(path);
       OGREnvelope env;
       const bool have_extent = layer->GetExtent(&env, TRUE) == OGRERR_NONE;
       const bool lonlat_range = have_extent && env.MinX >= -180 && env.MaxX <= 180 && env.MinY >= -90 && env.MaxY <= 90;
@@ -320,7 +287,7 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
         if (layer->GetExtent(&env, TRUE) != OGRERR_NONE)
           throw Error("layer '" + std::string(layer->GetName()) + "' has no extent to centre a local frame on", file);
         const double lon = 0.5 * (env.MinX + env.MaxX), lat = 0.5 * (env.MinY + env.MaxY);
-        to_local = toLocalMetres(*srs, lon, lat, file);
+        to_local = io_detail::toLocalMetres(*srs, lon, lat, file);
         char buf[200];
         std::snprintf(buf, sizeof buf,
                       "longitude/latitude (%s), projected to metres about %.6f, %.6f (transverse Mercator)",
@@ -342,6 +309,16 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
     }
     if (first_layer && options.units != nullptr) *options.units = {to_m, source};
     first_layer = false;
+    // A georeferenced plan of ours: read back in the map frame its origin says.
+    std::optional<Pose2> frame = io_detail::mapFrameOrigin(*layer, file);
+    if (frame && options.building_frame) frame.reset();
+    if (frame) {
+      char note[200];
+      std::snprintf(note, sizeof note,
+                    "layer %s: read back in the map frame (its origin at E %.3f N %.3f, x axis %.6f rad from east)",
+                    layer->GetName(), frame->x(), frame->y(), frame->theta);
+      report.notes.push_back(note);
+    }
     OGRFeatureDefn* defn = layer->GetLayerDefn();
     const int material_idx = defn->GetFieldIndex("material");
     const int thickness_idx = defn->GetFieldIndex("thickness");
@@ -354,7 +331,20 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
     for (auto& f : *layer) {
       FeatureAttrs a;
       const std::string where = "feature " + std::to_string(f->GetFID());
-      if (material_idx >= 0 && f->IsFieldSetAndNotNull(material_idx)) {
+      const bool has_cad = dxf_layer_idx >= 0 && f->IsFieldSetAndNotNull(dxf_layer_idx);
+      const io_detail::ExtraLayer extra =
+          io_detail::extraLayerOf(ours, layer->GetName(), *f, has_cad ? f->GetFieldAsString(dxf_layer_idx) : "");
+      if (extra != io_detail::ExtraLayer::None && !(extra == io_detail::ExtraLayer::Clutter && options.clutter)) {
+        tally.add(has_cad ? f->GetFieldAsString(dxf_layer_idx) : layer->GetName(), "ignored",
+                  extra == io_detail::ExtraLayer::Clutter ? "glassmap's clutter layer (the building only)"
+                                                          : "glassmap's door and room layers are not surfaces",
+                  0);
+        continue;
+      }
+      if (extra == io_detail::ExtraLayer::Clutter) {  // material "clutter": a surface, read as wall
+        a.material = Material::Wall;
+        a.material_set = true;
+      } else if (material_idx >= 0 && f->IsFieldSetAndNotNull(material_idx)) {
         try {
           a.material = parseMaterial(f->GetFieldAsString(material_idx));
           a.material_set = true;
@@ -405,6 +395,13 @@ VectorMap readFloorplan(const fs::path& path, const FloorplanReadOptions& option
       } else {
         addSegments(f->GetGeometryRef(), to_m, a, map, skipped);
       }
+      if (frame)
+        for (std::size_t i = first; i < map.segments.size(); ++i) {
+          MapSegment& s = map.segments[i];
+          s.a = frame->inverse() * s.a;
+          s.b = frame->inverse() * s.b;
+          s.pane_angle = std::fmod(std::fmod(s.pane_angle - frame->theta, kPi) + kPi, kPi);
+        }
       for (std::size_t i = first; i < map.segments.size(); ++i) {  // e.g. 1e400 in GeoJSON reads as inf
         if (!map.segments[i].a.allFinite() || !map.segments[i].b.allFinite())
           throw Error("non-finite coordinate (after scaling to metres)", file, 0, where + " geometry");

@@ -2,7 +2,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -129,28 +132,56 @@ GrayImage readRasterWithGdal(const fs::path& path) {
   img.height = GDALGetRasterYSize(ds);
   const int bands = GDALGetRasterCount(ds);
   if (bands < 1) throw Error("map image has no bands", path.string());
-  const int colour_bands = bands >= 3 ? 3 : 1;
-  const bool has_alpha = bands == 2 || bands == 4;
   const std::size_t n = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
   if (img.width <= 0 || img.height <= 0 || n > kMaxImagePixels)
     throw Error("implausible map image size " + std::to_string(img.width) + " x " + std::to_string(img.height) +
                     " (at most " + std::to_string(kMaxImagePixels) + " pixels)",
                 path.string());
-  std::vector<std::vector<unsigned char>> px(static_cast<std::size_t>(bands), std::vector<unsigned char>(n));
+  // Each band scaled to [0, 255] the way map_server's image loader expands it: a 1-, 2- or 4-bit
+  // image (NBITS) by its own maximum, a 16-bit one by 65535; a paletted image through its colours.
+  const GDALRasterBandH first = GDALGetRasterBand(ds, 1);
+  const GDALColorTableH palette = bands == 1 && GDALGetRasterColorInterpretation(first) == GCI_PaletteIndex
+                                      ? GDALGetRasterColorTable(first)
+                                      : nullptr;
+  std::vector<std::vector<double>> px;
   for (int b = 0; b < bands; ++b) {
-    if (GDALRasterIO(GDALGetRasterBand(ds, b + 1), GF_Read, 0, 0, img.width, img.height,
-                     px[static_cast<std::size_t>(b)].data(), img.width, img.height, GDT_Byte, 0, 0) != CE_None)
+    const GDALRasterBandH band = GDALGetRasterBand(ds, b + 1);
+    std::vector<std::uint16_t> v(n);
+    if (GDALRasterIO(band, GF_Read, 0, 0, img.width, img.height, v.data(), img.width, img.height, GDT_UInt16, 0, 0) !=
+        CE_None)
       throw Error("cannot read map image pixels" + errors.suffix(), path.string());
+    double top = GDALGetRasterDataType(band) == GDT_Byte ? 255.0 : 65535.0;
+    if (const char* nbits = GDALGetMetadataItem(band, "NBITS", "IMAGE_STRUCTURE")) {
+      const int bits = std::atoi(nbits);
+      if (bits >= 1 && bits <= 16) top = static_cast<double>((1 << bits) - 1);
+    }
+    if (palette) {  // indices -> red, green, blue, alpha
+      const int entries = GDALGetColorEntryCount(palette);
+      px.assign(4, std::vector<double>(n, 0.0));
+      for (std::size_t i = 0; i < n; ++i) {
+        if (v[i] >= entries)
+          throw Error("palette index " + std::to_string(v[i]) + " past the colour table", path.string(), 0,
+                      "pixel " + std::to_string(i));
+        const GDALColorEntry* e = GDALGetColorEntry(palette, v[i]);
+        px[0][i] = e->c1, px[1][i] = e->c2, px[2][i] = e->c3, px[3][i] = e->c4;
+      }
+      break;
+    }
+    px.emplace_back(n);
+    for (std::size_t i = 0; i < n; ++i) px.back()[i] = std::min(255.0, v[i] * 255.0 / top);
   }
+  const int channels = static_cast<int>(px.size());
+  const int colour_bands = channels >= 3 ? 3 : 1;
+  const bool has_alpha = channels == 2 || channels == 4;
   img.raw.resize(n);
   img.shade.resize(n);
   if (has_alpha) img.transparent.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    int sum = 0;
+    double sum = 0;
     for (int b = 0; b < colour_bands; ++b) sum += px[static_cast<std::size_t>(b)][i];
-    img.raw[i] = sum / colour_bands;
-    img.shade[i] = static_cast<double>(sum) / (255.0 * colour_bands);
-    if (has_alpha) img.transparent[i] = px[static_cast<std::size_t>(bands - 1)][i] < 255;
+    img.raw[i] = static_cast<int>(std::lround(sum / colour_bands));
+    img.shade[i] = sum / (255.0 * colour_bands);
+    if (has_alpha) img.transparent[i] = px[static_cast<std::size_t>(channels - 1)][i] < 255.0;
   }
   return img;
 }

@@ -25,7 +25,7 @@ Pose2 odometryAt(const std::vector<StampedPose>& odom, double t) {
 
 }  // namespace
 
-LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model, const LocalizeOptions& options) {
+LocalizeResult localizeLog(const LaserLog& log, sensor::SensorModel& model, const LocalizeOptions& options) {
   LocalizeResult result;
   result.scans = log.scans.size();
   if (log.scans.empty()) return result;
@@ -39,11 +39,14 @@ LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model
   double particle_sum = 0.0;
 
   ParticleFilter filter(model, options.filter);
+  SelfCalibrator calibrator(model.map(), options.self_calibration);
   const auto laserOdom = [&](const LaserScan& s) {
     return (s.has_odom ? s.odom_pose : odometryAt(log.odometry, s.timestamp)) * options.T_base_laser;
   };
 
   Pose2 odom_at_update = laserOdom(log.scans.front());
+  std::vector<std::uint8_t> sure;  // per scan: the filter converged (one tight mode holds the mass)
+  sure.reserve(log.scans.size());
   Pose2 est_at_update;
   result.trajectory.reserve(log.scans.size());
   for (std::size_t k = 0; k < log.scans.size(); ++k) {
@@ -70,6 +73,19 @@ LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model
       ++result.updates;
       odom_at_update = odom;
       est_at_update = filter.estimate();
+      // Self-calibration: scans where the filter is sure of its pose (one tight mode, no wall
+      // contradicting it) feed refits of the sensor model.
+      if (options.self_calibration.enabled && filter.converged() &&
+          filter.spread() < options.self_calibration.trust_spread &&
+          filter.contradiction() <= options.filter.contradiction_share) {
+        calibrator.add(k, est_at_update, filter.spread(), odom, std::abs(delta.trans), result.updates);
+        if (calibrator.due()) {
+          SelfCalibrationFit fit = calibrator.fit(log, model.params(), filter.motionNoise());
+          if (fit.applied) model.setParams(fit.params);
+          if (fit.motion_windows > 0) filter.setMotionNoise(fit.noise);
+          result.calibrations.push_back(std::move(fit));
+        }
+      }
       update_seconds += std::chrono::duration<double>(clock() - t0).count();
       result.trajectory.push_back({scan.timestamp, est_at_update, 0.0, 0.0});
     } else {
@@ -80,17 +96,22 @@ LocalizeResult localizeLog(const LaserLog& log, const sensor::SensorModel& model
     result.particles.push_back(filter.size());
     result.corrected.push_back(updated ? 1 : 0);
     result.relocalized.push_back(filter.relocalizations());
+    // Between updates the filter's state stands as it was at the last one.
+    sure.push_back(filter.converged() ? 1 : 0);
   }
   result.relocalizations = filter.relocalizations();
-  // Converged for good: a tight cloud (one mode: a split or spread cloud has a large spread about
-  // its mean) from some scan to the end. Never a confident answer while the cloud is still split.
+  result.probes = filter.probes();
+  result.final_params = model.params();
+  // Converged for good: one tight hypothesis holding all but a negligible mass (a spread cloud,
+  // or rival places still alive, is not) from some scan to the end. Never a confident answer
+  // while the cloud is still split.
   const std::size_t n = result.spread.size();
   result.settled.assign(n, 0);
   for (std::size_t k = n; k-- > 0;) {
-    if (!(result.spread[k] < options.filter.converged_spread) || (k + 1 < n && !result.settled[k + 1])) break;
+    if (!sure[k] || (k + 1 < n && !result.settled[k + 1])) break;
     result.settled[k] = 1;
   }
-  result.converged = n > 0 && result.settled[n - 1] && !filter.annealing();
+  result.converged = n > 0 && result.settled[n - 1];
   if (!result.converged) std::fill(result.settled.begin(), result.settled.end(), std::uint8_t{0});
   for (std::size_t k = 0; k < n && result.converged; ++k)
     if (result.settled[k]) {

@@ -20,11 +20,15 @@ OdometryDelta odometryDelta(const Pose2& from, const Pose2& to) {
 
 Pose2 sampleMotionOdometry(const Pose2& x, const OdometryDelta& u, const OdometryNoise& a, std::mt19937_64& rng) {
   std::normal_distribution<double> n01(0.0, 1.0);
-  const double r1 = u.rot1 * u.rot1, r2 = u.rot2 * u.rot2, t2 = u.trans * u.trans;
-  // Probabilistic Robotics eq. 5.37-5.39 (variances a1 rot^2 + a2 trans^2, a3 trans^2 + a4 rot^2).
-  const double rot1 = u.rot1 - std::sqrt(a.alpha1 * r1 + a.alpha2 * t2) * n01(rng);
-  const double trans = u.trans - std::sqrt(a.alpha3 * t2 + a.alpha4 * (r1 + r2)) * n01(rng);
-  const double rot2 = u.rot2 - std::sqrt(a.alpha1 * r2 + a.alpha2 * t2) * n01(rng);
+  const double r1 = u.rot1 * u.rot1, r2 = u.rot2 * u.rot2, t2 = u.trans * u.trans, t = std::abs(u.trans);
+  // Probabilistic Robotics eq. 5.37-5.39 (variances a1 rot^2 + a2 trans^2, a3 trans^2 + a4 rot^2),
+  // plus the random walks.
+  const double walk_rot = 0.5 * a.walk_heading * t;
+  const double rot1 =
+      u.rot1 - std::sqrt(a.alpha1 * r1 + a.alpha2 * t2 + a.walk_turn * std::abs(u.rot1) + walk_rot) * n01(rng);
+  const double trans = u.trans - std::sqrt(a.alpha3 * t2 + a.alpha4 * (r1 + r2) + a.walk_trans * t) * n01(rng);
+  const double rot2 =
+      u.rot2 - std::sqrt(a.alpha1 * r2 + a.alpha2 * t2 + a.walk_turn * std::abs(u.rot2) + walk_rot) * n01(rng);
   // eq. 5.40-5.42
   const double heading = x.theta + rot1;
   return {x.t + trans * Vec2(std::cos(heading), std::sin(heading)), heading + rot2};

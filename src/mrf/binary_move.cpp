@@ -4,18 +4,18 @@
 #include <bit>
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>
 #include <boost/graph/compressed_sparse_row_graph.hpp>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
 namespace glassmap::mrf::detail {
-namespace {
-
-using Graph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, boost::no_property,
-                                                 boost::no_property, uint32_t, uint32_t>;
-using Edge = boost::graph_traits<Graph>::edge_descriptor;
-
-}  // namespace
+using Graph = BinaryMoveSolver::Graph;
+using Edge = BinaryMoveSolver::Edge;
 
 std::vector<uint32_t> movableCells(const LabelEnergy& e) {
   std::vector<uint32_t> cells;
@@ -33,12 +33,20 @@ void BinaryMoveSolver::clear() {
   vars_.clear();
   l0_.clear();
   l1_.clear();
+  u0_.clear();
+  u1_.clear();
 }
 
 void BinaryMoveSolver::add(uint32_t cell, uint16_t label0, uint16_t label1) {
+  add(cell, label0, label1, e_.u(cell, label0), e_.u(cell, label1));
+}
+
+void BinaryMoveSolver::add(uint32_t cell, uint16_t label0, uint16_t label1, int32_t unary0, int32_t unary1) {
   vars_.push_back(cell);
   l0_.push_back(label0);
   l1_.push_back(label1);
+  u0_.push_back(unary0);
+  u1_.push_back(unary1);
 }
 
 int64_t BinaryMoveSolver::changeEnergy(const std::vector<uint16_t>& labels) const {
@@ -87,95 +95,174 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
 
   // Arcs sorted by source: per variable its arcs to variable neighbours, then to s and t;
   // then s -> every variable, t -> every variable. Vertices: variables 0..n-1, s = n, t = n + 1.
+  // They go straight into the graph's compressed rows (Boost's CSR storage, m_forward, is a
+  // public member), refilled in place so its arrays keep their capacity between moves. The
+  // variables are handled in parallel blocks (each writes its own arcs and terms; the energy
+  // sums are integers, so the graph is the same on any number of threads).
   const uint32_t s = n, t = n + 1;
-  std::vector<std::pair<uint32_t, uint32_t>> arcs;
-  arcs.reserve(static_cast<std::size_t>(n) * 6);
+  Graph& g = graph_;
+  std::vector<uint32_t>& row = g.m_forward.m_rowstart;
+  std::vector<uint32_t>& col = g.m_forward.m_column;
+  row.resize(static_cast<std::size_t>(n) + 3);
   arc_dir_.assign(static_cast<std::size_t>(n) * 8, -1);
   tarc_.resize(n);
-  th0_.assign(n, 0);
-  th1_.assign(n, 0);
-  int64_t e_cur = 0;  // current energy of every term that touches a variable, each once
-  for (uint32_t k = 0; k < n; ++k) {
+  th0_.resize(n);
+  th1_.resize(n);
+  const int L = e_.num_labels;
+  const int32_t* table = e_.pairwise_dir.empty() ? e_.pairwise.data() : e_.pairwise_dir.data();
+  const std::size_t class_stride = e_.pairwise_dir.empty() ? 0 : static_cast<std::size_t>(L) * L;
+  std::ptrdiff_t offset[8];
+  for (int d = 0; d < 8; ++d) offset[d] = static_cast<std::ptrdiff_t>(kDy[d]) * w + kDx[d];
+  const auto neighbours = [&](uint32_t k, auto&& visit) {  // visit(d, nc) for each neighbour in the grid
     const uint32_t c = vars_[k];
-    const int x = static_cast<int>(c % w), y = static_cast<int>(c / w);
-    th0_[k] += e_.u(c, l0_[k]);
-    th1_[k] += e_.u(c, l1_[k]);
-    e_cur += e_.u(c, labels[c]);
+    const int x = static_cast<int>(c % static_cast<uint32_t>(w)), y = static_cast<int>(c / static_cast<uint32_t>(w));
+    const bool inside = x > 0 && y > 0 && x < w - 1 && y < h - 1;  // all 8 neighbours exist
     for (int d = 0; d < 8; ++d) {
-      const int nx = x + kDx[d], ny = y + kDy[d];
-      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-      const std::size_t nc = static_cast<std::size_t>(ny) * w + nx;
-      const int32_t j = node_of_[nc];
-      if (j >= 0) {
-        arc_dir_[k * 8 + d] = static_cast<int32_t>(arcs.size());
-        arcs.emplace_back(k, static_cast<uint32_t>(j));
-        if (static_cast<uint32_t>(j) > k) e_cur += e_.psi(labels[c], labels[nc], kClass[d]);
-      } else {  // fixed neighbour: its pair term is a unary of this variable
-        th0_[k] += e_.psi(l0_[k], labels[nc], kClass[d]);
-        th1_[k] += e_.psi(l1_[k], labels[nc], kClass[d]);
-        e_cur += e_.psi(labels[c], labels[nc], kClass[d]);
+      if (!inside) {
+        const int nx = x + kDx[d], ny = y + kDy[d];
+        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
       }
+      visit(d, static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[d]));
     }
-    tarc_[k] = static_cast<uint32_t>(arcs.size());
-    arcs.emplace_back(k, s);
-    arcs.emplace_back(k, t);
-  }
-  const uint32_t base_s = static_cast<uint32_t>(arcs.size());
-  for (uint32_t k = 0; k < n; ++k) arcs.emplace_back(s, k);
-  const uint32_t base_t = static_cast<uint32_t>(arcs.size());
-  for (uint32_t k = 0; k < n; ++k) arcs.emplace_back(t, k);
-
-  std::vector<int64_t> cap(arcs.size(), 0), res(arcs.size(), 0);
-  std::vector<Edge> rev(arcs.size());
-  int64_t constant = 0;
-  // Pair terms (Kolmogorov & Zabih 2004): E(x_k, x_j) with A=E(0,0), B=E(0,1), C=E(1,0), D=E(1,1)
-  // becomes A + (C-A) x_k + (D-C) x_j + (B+C-A-D) [x_k=0, x_j=1]; x = 0 is the source side.
+  };
+  constexpr std::size_t kGrain = 4096;
+  using Range = tbb::blocked_range<uint32_t>;
+  // Arcs per variable (its variable neighbours, s and t), then where each variable's row starts.
+  tbb::parallel_for(Range(0, n, kGrain), [&](const Range& r) {
+    for (uint32_t k = r.begin(); k != r.end(); ++k) {
+      uint32_t count = 2;
+      neighbours(k, [&](int, std::size_t nc) { count += node_of_[nc] >= 0 ? 1 : 0; });
+      tarc_[k] = count;
+    }
+  });
+  uint32_t pos = 0;
   for (uint32_t k = 0; k < n; ++k) {
-    for (int d = 0; d < 8; ++d) {
-      const int32_t a = arc_dir_[k * 8 + d];
-      if (a < 0) continue;
-      const uint32_t j = arcs[a].second;
-      rev[a] = Edge(j, static_cast<uint32_t>(arc_dir_[j * 8 + (7 - d)]));
-      if (j < k) continue;  // each pair once
-      const int cls = kClass[d];
-      int64_t A = e_.psi(l0_[k], l0_[j], cls), B = e_.psi(l0_[k], l1_[j], cls);
-      int64_t C = e_.psi(l1_[k], l0_[j], cls), D = e_.psi(l1_[k], l1_[j], cls);
-      const int64_t deficit = A + D - B - C;
-      if (deficit > 0) {
-        // Raise the off-diagonal entries the current labelling does not use (Rother et al. 2005):
-        // E' >= E and E'(current) = E(current).
-        const bool b_used = cur_[k] == 0 && cur_[j] == 1, c_used = cur_[k] == 1 && cur_[j] == 0;
-        if (b_used) {
-          C += deficit;
-        } else if (c_used) {
-          B += deficit;
-        } else {
-          B += deficit / 2;
-          C += deficit - deficit / 2;
+    row[k] = pos;
+    pos += tarc_[k];
+  }
+  const uint32_t base_s = pos, base_t = pos + n, arcs = pos + 2 * n;
+  row[s] = base_s;
+  row[t] = base_t;
+  row[t + 1] = arcs;
+  col.resize(arcs);
+  adir_.resize(arcs);
+  // e_cur: the current energy of every term that touches a variable, each once.
+  const int64_t e_cur = tbb::parallel_reduce(
+      Range(0, n, kGrain), int64_t{0},
+      [&](const Range& r, int64_t sum) {
+        for (uint32_t k = r.begin(); k != r.end(); ++k) {
+          uint32_t at_arc = row[k];
+          int64_t t0 = u0_[k], t1 = u1_[k];
+          sum += cur_[k] ? u1_[k] : u0_[k];                                    // labels[c] is l0 or l1
+          const int32_t* psi0 = table + static_cast<std::size_t>(l0_[k]) * L;  // class 0 rows
+          const int32_t* psi1 = table + static_cast<std::size_t>(l1_[k]) * L;
+          neighbours(k, [&](int d, std::size_t nc) {
+            const int32_t j = node_of_[nc];
+            const std::size_t at = kClass[d] * class_stride + labels[nc];
+            const int64_t p0 = psi0[at], p1 = psi1[at];
+            // A variable neighbour gets an arc (its pair term below); a fixed one's pair term is
+            // a unary of this variable. Selects, not branches: which neighbours are variables is data.
+            const bool var = j >= 0;
+            col[at_arc] = static_cast<uint32_t>(j);
+            adir_[at_arc] = static_cast<uint8_t>(d);
+            arc_dir_[k * 8 + d] = var ? static_cast<int32_t>(at_arc) : -1;
+            at_arc += var ? 1 : 0;
+            t0 += var ? 0 : p0;
+            t1 += var ? 0 : p1;
+            sum += (!var || static_cast<uint32_t>(j) > k) ? (cur_[k] ? p1 : p0) : 0;
+          });
+          th0_[k] = t0;
+          th1_[k] = t1;
+          tarc_[k] = at_arc;
+          col[at_arc] = s;
+          col[at_arc + 1] = t;
+          col[base_s + k] = k;
+          col[base_t + k] = k;
         }
-        ++out.truncated;
-      }
-      constant += A;
-      th1_[k] += C - A;
-      th1_[j] += D - C;
-      cap[a] += B + C - A - D;
-    }
-  }
-  for (uint32_t k = 0; k < n; ++k) {
-    const int64_t m = std::min(th0_[k], th1_[k]);
-    constant += m;
-    cap[base_s + k] = th1_[k] - m;    // s -> k is cut when x_k = 1
-    cap[tarc_[k] + 1] = th0_[k] - m;  // k -> t is cut when x_k = 0
-    rev[base_s + k] = Edge(k, tarc_[k]);
-    rev[tarc_[k]] = Edge(s, base_s + k);
-    rev[base_t + k] = Edge(k, tarc_[k] + 1);
-    rev[tarc_[k] + 1] = Edge(t, base_t + k);
-  }
+        return sum;
+      },
+      std::plus<>());
 
-  const Graph g(boost::edges_are_sorted, arcs.begin(), arcs.end(), n + 2);
-  std::vector<boost::default_color_type> color(n + 2);
-  std::vector<Edge> pred(n + 2);
-  std::vector<long> dist(n + 2);
+  std::vector<int64_t>& cap = cap_;
+  std::vector<int64_t>& res = res_;
+  std::vector<Edge>& rev = rev_;
+  cap.assign(arcs, 0);
+  res.assign(arcs, 0);
+  rev.resize(arcs);
+  // Pair terms (Kolmogorov & Zabih 2004): E(x_k, x_j) with A=E(0,0), B=E(0,1), C=E(1,0), D=E(1,1)
+  // becomes A + (C-A) x_k + (D-C) x_j + (B+C-A-D) [x_k=0, x_j=1]; x = 0 is the source side. Both
+  // ends of a pair compute its terms (the lower one keeps C-A, A and the arc's capacity, the upper
+  // one D-C), so no variable writes another's terms.
+  struct Sums {
+    int64_t constant = 0, truncated = 0;
+  };
+  const Sums pairs = tbb::parallel_reduce(
+      Range(0, n, kGrain), Sums{},
+      [&](const Range& r, Sums sums) {
+        for (uint32_t k = r.begin(); k != r.end(); ++k) {
+          for (uint32_t a = row[k]; a < tarc_[k]; ++a) {  // the arcs to variable neighbours
+            const uint32_t j = col[a];
+            const int d = adir_[a];
+            rev[a] = Edge(j, static_cast<uint32_t>(arc_dir_[j * 8 + (7 - d)]));
+            const uint32_t lo = std::min(k, j), hi = std::max(k, j);
+            const int cls = kClass[d];
+            int64_t A = e_.psi(l0_[lo], l0_[hi], cls), B = e_.psi(l0_[lo], l1_[hi], cls);
+            int64_t C = e_.psi(l1_[lo], l0_[hi], cls), D = e_.psi(l1_[lo], l1_[hi], cls);
+            const int64_t deficit = A + D - B - C;
+            if (deficit > 0) {
+              // Raise the off-diagonal entries the current labelling does not use (Rother et al.
+              // 2005): E' >= E and E'(current) = E(current).
+              const bool b_used = cur_[lo] == 0 && cur_[hi] == 1, c_used = cur_[lo] == 1 && cur_[hi] == 0;
+              if (b_used) {
+                C += deficit;
+              } else if (c_used) {
+                B += deficit;
+              } else {
+                B += deficit / 2;
+                C += deficit - deficit / 2;
+              }
+              if (k == lo) ++sums.truncated;
+            }
+            if (k == lo) {
+              sums.constant += A;
+              th1_[k] += C - A;
+              cap[a] += B + C - A - D;
+            } else {
+              th1_[k] += D - C;
+            }
+          }
+        }
+        return sums;
+      },
+      [](Sums a, const Sums& b) {
+        a.constant += b.constant;
+        a.truncated += b.truncated;
+        return a;
+      });
+  out.truncated = pairs.truncated;
+  const int64_t constant = pairs.constant + tbb::parallel_reduce(
+                                                Range(0, n, kGrain), int64_t{0},
+                                                [&](const Range& r, int64_t sum) {
+                                                  for (uint32_t k = r.begin(); k != r.end(); ++k) {
+                                                    const int64_t m = std::min(th0_[k], th1_[k]);
+                                                    sum += m;
+                                                    cap[base_s + k] = th1_[k] - m;    // s -> k is cut when x_k = 1
+                                                    cap[tarc_[k] + 1] = th0_[k] - m;  // k -> t is cut when x_k = 0
+                                                    rev[base_s + k] = Edge(k, tarc_[k]);
+                                                    rev[tarc_[k]] = Edge(s, base_s + k);
+                                                    rev[base_t + k] = Edge(k, tarc_[k] + 1);
+                                                    rev[tarc_[k] + 1] = Edge(t, base_t + k);
+                                                  }
+                                                  return sum;
+                                                },
+                                                std::plus<>());
+
+  std::vector<boost::default_color_type>& color = color_;
+  std::vector<Edge>& pred = pred_;
+  std::vector<long>& dist = dist_;
+  color.assign(n + 2, boost::default_color_type{});
+  pred.resize(n + 2);
+  dist.assign(n + 2, 0);
   const auto eidx = get(boost::edge_index, g);
   const auto vidx = get(boost::vertex_index, g);
   const int64_t flow = boost::boykov_kolmogorov_max_flow(

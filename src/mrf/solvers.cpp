@@ -126,11 +126,19 @@ class ExpansionSolver final : public MrfSolver {
     MrfResult r;
     r.initial_energy = r.energy = energy(e, labels);
     const int L = e.num_labels;
-    // Per label the movable cells where it is a candidate (fixed for the whole solve).
+    // Per label the movable cells where it is a candidate (fixed for the whole solve), with the
+    // label's unary there, and per cell the unary of its current label: a move then reads its
+    // unaries in order instead of from the whole cells x labels table.
     std::vector<std::vector<uint32_t>> where(L);
+    std::vector<std::vector<int32_t>> where_u(L);
     for (uint32_t c : detail::movableCells(e))
       for (int l = 0; l < L; ++l)
-        if (e.isCandidate(c, l)) where[l].push_back(c);
+        if (e.isCandidate(c, l)) {
+          where[l].push_back(c);
+          where_u[l].push_back(e.u(c, l));
+        }
+    std::vector<int32_t> u_now(e.cells());
+    for (std::size_t c = 0; c < e.cells(); ++c) u_now[c] = e.u(c, labels[c]);
     detail::BinaryMoveSolver move(e);
     // An alpha move depends on the labels in alpha's candidate region and next to it. When a cell
     // changes, every label that is a candidate at it or at a neighbour gets stamped; an alpha
@@ -143,14 +151,17 @@ class ExpansionSolver final : public MrfSolver {
       for (int a = 0; a < L; ++a) {
         if (stamp[a] < last_run[a]) continue;
         move.clear();
-        for (uint32_t c : where[a])
-          if (labels[c] != a) move.add(c, labels[c], static_cast<uint16_t>(a));
+        for (std::size_t i = 0; i < where[a].size(); ++i) {
+          const uint32_t c = where[a][i];
+          if (labels[c] != a) move.add(c, labels[c], static_cast<uint16_t>(a), u_now[c], where_u[a][i]);
+        }
         const detail::MoveOutcome m = move.run(labels);
         r.truncated_terms += m.truncated;
         ++now;
         if (m.changed) {
           r.energy += m.delta;
           ++r.moves;
+          for (uint32_t c : move.changedCells()) u_now[c] = e.u(c, labels[c]);
           if (L > 64) {
             std::fill(stamp.begin(), stamp.end(), now);
           } else {

@@ -9,7 +9,7 @@ LocalizeResult localizeLog(const LaserLog& log, const VectorMap& map, const Loca
   if (log.scans.empty()) throw Error("the log holds no scan to localize");
   sensor::SensorParams params = options.sensor;
   params.max_range = log.scans.front().max_range;
-  const auto model = sensor::makeSensorModel(options.model, map, params);
+  const auto model = sensor::makeSensorModel(options.model, map, params);  // refitted when self-calibrating
   LocalizeResult out;
   out.model = model->name();
   out.run = localize::localizeLog(log, *model, options.filter);

@@ -39,7 +39,7 @@ LabelRaster toLabelRaster(const glass::CellEvidence& e) {
 }
 
 std::vector<std::filesystem::path> writeMapFiles(const std::filesystem::path& dir, const MapResult& result,
-                                                 bool floorplan_files) {
+                                                 bool floorplan_files, const FloorplanGeoref* georef) {
   namespace fs = std::filesystem;
   const glass::CellEvidence& e = result.evidence;
   std::error_code ec;
@@ -55,7 +55,9 @@ std::vector<std::filesystem::path> writeMapFiles(const std::filesystem::path& di
     writeLabelRaster(staging / "labels.tif", toLabelRaster(e));
     writeLabelsPng(staging / "map.png", e.geometry.width, e.geometry.height, e.label, e.bins);
     writeSensorProfile(staging / "sensor.yaml", result.profile);
-    if (floorplan_files && result.has_floorplan) vector::writeFloorplanSet(staging / "floorplan", result.floorplan.map);
+    if (floorplan_files && result.has_floorplan)
+      vector::writeFloorplanSet(staging / "floorplan", result.floorplan.map, vector::defaultFloorplanSet(),
+                                result.floorplan.extras, georef);
     for (const auto& entry : fs::directory_iterator(staging)) names.push_back(entry.path().filename());
   } catch (const Error& err) {
     fs::remove_all(staging, ec);

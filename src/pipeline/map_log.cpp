@@ -94,6 +94,14 @@ MapResult mapOnce(const LaserLog& log, const MapOptions& options, const Progress
   return out;
 }
 
+// Every surface of a pass's floorplan the laser sees: its walls and glass and its clutter layer.
+VectorMap surfacesOf(const vector::VectorizeResult& floorplan) {
+  VectorMap all = floorplan.map;
+  all.segments.insert(all.segments.end(), floorplan.extras.clutter.segments.begin(),
+                      floorplan.extras.clutter.segments.end());
+  return all;
+}
+
 // Fits the profile against a pass's floorplan; false (the reason in fit.warnings) when it has no wall.
 bool fitProfile(const LaserLog& log, const VectorMap& plan, const MapOptions& options, const SensorProfile& prior,
                 sensor::CalibrationResult& fit) {
@@ -196,7 +204,7 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
     sensor::CalibrationResult fit;
     for (int round = 0; round < options.calibration_rounds; ++round) {
       if (progress) progress("calibrate", 0.0);
-      if (!fitProfile(log, pass.floorplan.map, options, profile, fit)) break;
+      if (!fitProfile(log, surfacesOf(pass.floorplan), options, profile, fit)) break;
       if (progress) progress("calibrate", 1.0);
       out.calibrated = true;
       profile = fit.profile;
@@ -227,10 +235,14 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
   // Back to the log's frame.
   if (!local.offset.isZero()) {
     out.evidence.geometry.origin += local.offset;
-    for (MapSegment& seg : out.floorplan.map.segments) {
-      seg.a += local.offset;
-      seg.b += local.offset;
-    }
+    for (VectorMap* m : {&out.floorplan.map, &out.floorplan.extras.clutter})
+      for (MapSegment& seg : m->segments) {
+        seg.a += local.offset;
+        seg.b += local.offset;
+      }
+    for (DoorOpening& d : out.floorplan.extras.doors) d.a += local.offset, d.b += local.offset;
+    for (RoomPolygon& r : out.floorplan.extras.rooms)
+      for (Vec2& p : r.ring) p += local.offset;
   }
   const double last_pass = out.seconds.total;
   out.seconds.total = secondsSince(t0);
@@ -257,7 +269,7 @@ CalibrateLogResult calibrateLog(const LaserLog& input, const VectorMap* floorpla
                   (map.calibration.warnings.empty() ? std::string("no wall") : map.calibration.warnings.front()));
     // The profile the final pass used, refitted once more against that pass's floorplan.
     const LocalLog local(input);
-    VectorMap plan = map.floorplan.map;
+    VectorMap plan = surfacesOf(map.floorplan);
     for (MapSegment& s : plan.segments) {
       s.a -= local.offset;
       s.b -= local.offset;

@@ -224,8 +224,27 @@ std::size_t peakMemoryBytes() {
   return static_cast<std::size_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
 }
 
+nlohmann::json sensorParamsJson(const sensor::SensorParams& p) {
+  const double sum = p.z_hit + p.z_short + p.z_max + p.z_rand;
+  return {{"sigma_hit_m", p.sigma_hit},     {"w_hit", p.z_hit / sum},
+          {"w_short", p.z_short / sum},     {"w_max", p.z_max / sum},
+          {"w_rand", p.z_rand / sum},       {"lambda_short", p.lambda_short},
+          {"direct_peak", p.direct_peak},   {"direct_sigma_deg", p.direct_sigma_deg},
+          {"direct_floor", p.direct_floor}, {"normal_lambda_per_deg", p.lambda_normal},
+          {"normal_floor", p.normal_floor}};
+}
+
 nlohmann::json localizeSummaryJson(const LocalizeResult& result, const LocalizeOptions& options) {
   const localize::LocalizeResult& r = result.run;
+  nlohmann::json calibrations = nlohmann::json::array();
+  for (const localize::SelfCalibrationFit& f : r.calibrations)
+    calibrations.push_back({{"time_s", f.time},
+                            {"scans", f.scans},
+                            {"trusted_m", f.trusted_m},                            {"applied", f.applied},
+                            {"motion_windows", f.motion_windows},
+                            {"odometry_walk_trans_m2_per_m", f.noise.walk_trans},
+                            {"odometry_walk_heading_rad2_per_m", f.noise.walk_heading},
+                            {"params", sensorParamsJson(f.params)}});
   return {{"model", result.model},
           {"glass_as", sensor::toString(options.sensor.glass_as)},
           {"scans", r.scans},
@@ -233,6 +252,7 @@ nlohmann::json localizeSummaryJson(const LocalizeResult& result, const LocalizeO
           {"resamplings", r.resamplings},
           {"injected_particles", r.injected},
           {"relocalizations", r.relocalizations},
+          {"probes", r.probes},
           {"converged", r.converged},
           {"converged_at_s", r.converged ? nlohmann::json(r.converged_at) : nlohmann::json(nullptr)},
           {"mean_particles", r.mean_particles},
@@ -241,7 +261,9 @@ nlohmann::json localizeSummaryJson(const LocalizeResult& result, const LocalizeO
           {"ms_per_update", 1e3 * r.seconds_per_update},
           {"log_seconds", r.log_duration},
           {"real_time_factor", r.realTimeFactor()},
-          {"seed", options.filter.filter.seed}};
+          {"seed", options.filter.filter.seed},
+          {"sensor_params", sensorParamsJson(r.final_params)},
+          {"self_calibration", calibrations}};
 }
 
 std::string calibrationSource(const std::string& log_path, const std::string& plan_path) {

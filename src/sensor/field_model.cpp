@@ -104,11 +104,25 @@ double DistanceGrid::exactDistance(const Vec2& p) const {
 }
 
 FieldModel::FieldModel(const VectorMap& map, const SensorParams& params)
-    : map_(map),
-      grid_(map, params.glass_as == GlassAs::Opaque, params.field_resolution, params.field_max_dist),
-      sigma_(params.sigma_hit) {
+    : SensorModel(params),
+      map_(map),
+      grid_(map, params.glass_as == GlassAs::Opaque, params.field_resolution, params.field_max_dist) {
+  tabulate(params);
+}
+
+void FieldModel::setParams(const SensorParams& params) {
+  SensorParams p = params;
+  p.glass_as = params_.glass_as;  // the grid was built for these
+  p.field_resolution = params_.field_resolution;
+  p.field_max_dist = params_.field_max_dist;
+  tabulate(p);
+  params_ = p;
+}
+
+void FieldModel::tabulate(const SensorParams& params) {
   if (!(params.sigma_hit > 0)) throw Error("sigma_hit must be positive", {}, 0, "sigma_hit");
   if (!(params.z_rand > 0)) throw Error("z_rand must be positive", {}, 0, "z_rand");
+  sigma_ = params.sigma_hit;
   // The field model has no short-reading term (AMCL's neither): hit, max and random only.
   const double sum = params.z_hit + params.z_max + params.z_rand;
   w_hit_ = params.z_hit / sum;
@@ -125,7 +139,6 @@ FieldModel::FieldModel(const VectorMap& map, const SensorParams& params)
     table_[static_cast<std::size_t>(i)] = std::log(k * std::exp(h * d * d) + rand);
   }
 }
-
 
 double FieldModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const {
   if (z >= max_range) return std::log(std::max(w_max_, 1e-12));

@@ -15,53 +15,83 @@ constexpr double kNegligible = 1e-4;
 }  // namespace
 
 GlassModel::GlassModel(const VectorMap& map, const SensorParams& params, Variant variant)
-    : caster_(map), params_(params), mix_(params), variant_(variant) {}
+    : SensorModel(params), caster_(map), mix_(params), variant_(variant) {}
 
-GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& hit, double max_range) const {
+void GlassModel::setParams(const SensorParams& params) {
+  mix_ = Mixture(params);  // validates before anything changes
+  params_ = params;
+}
+
+GlassModes GlassModel::weights(const RayHit& hit) const {
   GlassModes m;
   m.d_g = hit.range;
   m.theta_deg = rad2deg(hit.incidence);
   // Paper eq. (2.1): direct-reflection lobe; (2.2): normal reflection; (2.3): refraction.
   // With a measured profile: a peak below 1 and floors at any angle (defaults 1, 0, 0: the paper).
-  m.w_direct = params_.direct_floor +
-               (params_.direct_peak - params_.direct_floor) *
-                   std::exp(-m.theta_deg * m.theta_deg / (2.0 * params_.direct_sigma_deg * params_.direct_sigma_deg));
+  // (exp below -746 is exactly 0: taking that branch skips libm's slow underflow path, same bits.)
+  const double lobe = -m.theta_deg * m.theta_deg / (2.0 * params_.direct_sigma_deg * params_.direct_sigma_deg);
+  m.w_direct =
+      params_.direct_floor + (params_.direct_peak - params_.direct_floor) * (lobe < -746.0 ? 0.0 : std::exp(lobe));
   m.w_normal =
       params_.normal_floor + (1.0 - params_.normal_floor) * std::exp(-params_.lambda_normal * (90.0 - m.theta_deg));
   m.w_refract = std::max(0.0, 1.0 - m.w_normal - m.w_direct);
   m.e_normal = kInf;
   m.e_refract = kInf;
+  return m;
+}
+
+Vec2 GlassModel::mirrored(std::int32_t pane, const Vec2& dir) const {
+  const Vec2 t = caster_.map().segments[static_cast<std::size_t>(pane)].direction();
+  return 2.0 * dir.dot(t) * t - dir;
+}
+
+double GlassModel::elongation(std::int32_t pane, const Vec2& dir) const {
+  // paneRangeElongation (geometry/optics.hpp), t (n / cos theta_t - 1 / cos theta_i), from the
+  // cosines themselves: cos theta_i = |dir x d| / |d|, sin theta_i = |dir . d| / |d| for the
+  // pane's vector d, and Snell's sin theta_t = sin theta_i / n; no sin, asin or cos.
+  if (params_.offset >= 0) return params_.offset;
+  const MapSegment& s = caster_.map().segments[static_cast<std::size_t>(pane)];
+  if (s.thickness == 0.0) return 0.0;
+  const Vec2 d = s.b - s.a;
+  const double len = d.norm();
+  const double cos_i = std::min(1.0, std::abs(dir.x() * d.y() - dir.y() * d.x()) / len);
+  const double sin_t = std::min(1.0, std::abs(dir.dot(d)) / len) * (kAirIndex / params_.glass_index);
+  const double cos_t = std::sqrt(std::max(0.0, 1.0 - sin_t * sin_t));
+  return params_.glass_index * (s.thickness / cos_t) - s.thickness / cos_i;
+}
+
+GlassModel::Transmitted GlassModel::transmitted(const GlassModes&, const RayHit& hit, const Vec2& p,
+                                                const Vec2& dir) const {
+  // d_real: the straight ray continued through this pane (and up to max_panes - 1 more) to a
+  // wall; offset: each pane's elongation, or the fixed per-pane offset when one is set.
+  return {p, hit.range, elongation(hit.segment, dir), hit.segment, 1};
+}
+
+bool GlassModel::goesOn(Transmitted& t, const RayHit& next, const Vec2& dir, double& e_refract) const {
+  if (!next.hit()) return false;
+  t.travelled += next.range;
+  if (next.material == Material::Wall || t.k == params_.max_panes) {
+    e_refract = t.travelled + t.offset;
+    return false;
+  }
+  t.offset += elongation(next.segment, dir);
+  t.o = t.o + next.range * dir;
+  t.skip = next.segment;
+  ++t.k;
+  return true;
+}
+
+GlassModes GlassModel::modes(const Vec2& origin, const Vec2& dir, const RayHit& hit, double max_range) const {
+  GlassModes m = weights(hit);
   const Vec2 p = origin + hit.range * dir;
-  const MapSegment& pane = caster_.map().segments[static_cast<std::size_t>(hit.segment)];
   if (m.w_normal > kNegligible) {
     // d_o: along the ray mirrored at the pane, to the next surface of any material.
-    const Vec2 t = pane.direction();
-    const Vec2 mirrored = 2.0 * dir.dot(t) * t - dir;
-    const double d_o = caster_.castRange(p, mirrored, max_range - m.d_g, hit.segment);
+    const double d_o = caster_.castRange(p, mirrored(hit.segment, dir), max_range - m.d_g, hit.segment);
     m.e_normal = m.d_g + d_o;
   }
-  if (m.w_refract > kNegligible) {
-    // d_real: the straight ray continued through this pane (and up to max_panes - 1 more) to a
-    // wall; offset: each pane's elongation, or the fixed per-pane offset when one is set.
-    double offset =
-        params_.offset >= 0 ? params_.offset : paneRangeElongation(pane.thickness, hit.incidence, params_.glass_index);
-    Vec2 o = p;
-    double travelled = m.d_g;
-    std::int32_t skip = hit.segment;
-    for (int k = 1; k <= params_.max_panes; ++k) {
-      const RayHit next = caster_.castSurface(o, dir, max_range - travelled, skip);
-      if (!next.hit()) break;
-      travelled += next.range;
-      if (next.material == Material::Wall || k == params_.max_panes) {
-        m.e_refract = travelled + offset;
-        break;
-      }
-      const MapSegment& s = caster_.map().segments[static_cast<std::size_t>(next.segment)];
-      offset += params_.offset >= 0
-                    ? params_.offset
-                    : paneRangeElongation(s.thickness, caster_.incidence(next.segment, dir), params_.glass_index);
-      o = o + next.range * dir;
-      skip = next.segment;
+  if (m.w_refract > kNegligible && params_.max_panes >= 1) {
+    Transmitted t = transmitted(m, hit, p, dir);
+    while (goesOn(t, caster_.castSurface(t.o, dir, max_range - t.travelled, t.skip), dir, m.e_refract)) {
     }
   }
   return m;
@@ -72,9 +102,9 @@ double GlassModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, doub
 }
 
 double GlassModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const {
-  return sumLogProbabilities(T_map_laser, beams, [&](const Vec2& dir, double z) {
-    return probability(T_map_laser.t, dir, z, beams.max_range);
-  });
+  double out = 0.0;  // the batch call for one pose (glass_batch.cpp): bit for bit the filter's calls
+  logLikelihoods(std::span<const Pose2>(&T_map_laser, 1), beams, &out);
+  return out;
 }
 
 double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, double max_range) const {
@@ -82,7 +112,14 @@ double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, do
   RayHit hit = caster_.castSurface(origin, dir, max_range);
   if (!hit.hit() || hit.material == Material::Wall) return mix_.probability(z, hit.range, max_range);
   hit.incidence = caster_.incidence(hit.segment, dir);
-  const GlassModes m = modes(origin, dir, hit, max_range);
+  return fromModes(modes(origin, dir, hit, max_range), z, max_range);
+}
+
+double GlassModel::fromModes(const GlassModes& m, double z, double max_range) const {
+  return fromModes(m, z, max_range, z < max_range ? mix_.shortNumerator(z) : 0.0);
+}
+
+double GlassModel::fromModes(const GlassModes& m, double z, double max_range, double short_numerator) const {
   const bool max_reading = z >= max_range;
   if (variant_ == Variant::Mixture) {
     const double sum = m.w_direct + m.w_normal + m.w_refract;  // > 0: w_normal never vanishes
@@ -96,7 +133,8 @@ double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, do
       const double hit_density = wd * mix_.hitDensity(z, m.d_g, max_range) +
                                  wn * mix_.hitDensity(z, m.e_normal, max_range) +
                                  wr * mix_.hitDensity(z, m.e_refract, max_range);
-      p = mix_.w_hit * hit_density + mix_.w_short * mix_.shortDensity(z, m.d_g, max_range) + mix_.w_rand / max_range;
+      p = mix_.w_hit * hit_density + mix_.w_short * mix_.shortDensity(z, m.d_g, max_range, short_numerator) +
+          mix_.w_rand / max_range;
     }
     return p;
   }
@@ -109,12 +147,6 @@ double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, do
   const double p = a1 + a2 + a3 - a1 * a2 - a1 * a3 - a2 * a3;
   // Guard: the formula goes negative when two densities exceed 1; floor at the random density.
   return std::max(p, mix_.w_rand / max_range);
-}
-
-void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const {
-  sumLogProbabilitiesBatch(poses, beams, out, [&](const Pose2& T_map_laser, const Vec2& dir, double z) {
-    return probability(T_map_laser.t, dir, z, beams.max_range);
-  });
 }
 
 }  // namespace glassmap::sensor

@@ -36,15 +36,15 @@ double Mixture::hitDensity(double z, double e, double z_max) const {
   return eta * gauss(z, e);
 }
 
-double Mixture::shortDensity(double z, double e, double z_max) const {
+double Mixture::shortDensity(double z, double e, double z_max, double numerator) const {
   const double es = std::min(e, z_max);
   if (z >= es || es <= 1e-9 || lambda_short <= 0) return 0.0;
-  return lambda_short * std::exp(-lambda_short * z) / (-std::expm1(-lambda_short * es));
+  return numerator / (-std::expm1(-lambda_short * es));
 }
 
-double Mixture::probability(double z, double e, double z_max) const {
+double Mixture::probability(double z, double e, double z_max, double short_numerator) const {
   if (z >= z_max) return w_max + (e < z_max ? 0.0 : w_hit);
-  return w_hit * hitDensity(z, e, z_max) + w_short * shortDensity(z, e, z_max) + w_rand / z_max;
+  return w_hit * hitDensity(z, e, z_max) + w_short * shortDensity(z, e, z_max, short_numerator) + w_rand / z_max;
 }
 
 }  // namespace glassmap::sensor

@@ -36,16 +36,19 @@ bool isExportFormat(const std::filesystem::path& path) {
   return std::find(f.begin(), f.end(), ext) != f.end();
 }
 
-void exportFloorplan(const std::filesystem::path& path, const VectorMap& map) {
+void exportFloorplan(const std::filesystem::path& path, const VectorMap& map, const FloorplanExtras& extras,
+                     const FloorplanGeoref* georef) {
   const std::string ext = lowerExtension(path);
-  if (ext == "svg" || ext == "png") {
+  if (ext == "svg" || ext == "png" || ext == "pdf") {
+    VectorMap placed = map;  // pictures: in building coordinates when georeferenced
+    if (georef)
+      for (MapSegment& s : placed.segments) s.a = georef->origin * s.a, s.b = georef->origin * s.b;
+    if (ext == "pdf") return renderFloorplanPdf(path, placed);
     FloorplanPicture picture;
     picture.pixels_per_metre = 50.0;
-    renderFloorplan(path, map, picture);
-  } else if (ext == "pdf") {
-    renderFloorplanPdf(path, map);
+    renderFloorplan(path, placed, picture);
   } else if (isExportFormat(path)) {
-    writeFloorplan(path, map);
+    writeFloorplan(path, map, extras, georef);
   } else {
     throw Error("unknown floorplan format '." + ext +
                     "' (expected .gpkg, .geojson, .json, .shp, .fgb, .dxf, .svg, .png or .pdf)",
@@ -54,14 +57,15 @@ void exportFloorplan(const std::filesystem::path& path, const VectorMap& map) {
 }
 
 std::vector<std::filesystem::path> writeFloorplanSet(const std::filesystem::path& stem, const VectorMap& map,
-                                                     const std::vector<std::string>& extensions) {
+                                                     const std::vector<std::string>& extensions,
+                                                     const FloorplanExtras& extras, const FloorplanGeoref* georef) {
   std::vector<std::filesystem::path> written;
   for (const std::string& ext : extensions) {
     std::filesystem::path p = stem;
     p += "." + ext;
     // Pictures of an empty map have nothing to show; the vector formats are still written.
     if (map.segments.empty() && (ext == "svg" || ext == "png" || ext == "pdf")) continue;
-    exportFloorplan(p, map);
+    exportFloorplan(p, map, extras, georef);
     written.push_back(p);
   }
   return written;

@@ -100,7 +100,7 @@ void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material
 }
 
 // Wall faces: two near-parallel wall pieces less than max_wall_thickness apart, overlapping over
-// half the shorter one, with no free space between them, become one centre line.
+// half the longer one, with no free space between them, become one centre line.
 void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Context& ctx) {
   const double cos_max = std::cos(deg2rad(ctx.opt.wall.merge_angle_deg));
   for (bool changed = true; changed;) {
@@ -119,7 +119,7 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
         if (sep > ctx.opt.max_wall_thickness) return;
         const auto [u0, u1] = projectedExtent(p, q);
         const double overlap = std::min(u1, p.t1) - std::max(u0, p.t0);
-        if (overlap < ctx.opt.face_min_overlap * std::min(p.length(), q.length())) return;
+        if (overlap < ctx.opt.face_min_overlap * std::max(p.length(), q.length())) return;
         // Free cells between the faces: a corridor or a gap, not one wall.
         const double lo = std::max(u0, p.t0), hi = std::min(u1, p.t1);
         int free = 0;

@@ -28,6 +28,7 @@ struct Piece {
   double thickness = 0;    ///< measured or merged thickness [m]
   bool faces_merged = false;
   bool alive = true;
+  std::vector<std::uint32_t> parts;  ///< structure step: the fitted pieces a wall line joined into this one
 
   Vec2 a() const { return c + t0 * d; }
   Vec2 b() const { return c + t1 * d; }
@@ -47,6 +48,12 @@ struct Context {
   /// Bayesian information criterion of `segments` lines explaining n cells with residual rss.
   double bic(double rss, double n, double segments) const {
     return n * std::log(std::max(rss / n, sigma0_sq)) + segments * opt.params_per_segment * std::log(n);
+  }
+  /// Code of the cell under p (grid frame); unknown outside the grid.
+  std::uint8_t codeAt(const Vec2& p) const {
+    const int x = static_cast<int>(std::floor(p.x() / grid.resolution));
+    const int y = static_cast<int>(std::floor(p.y() / grid.resolution));
+    return x >= 0 && y >= 0 && x < grid.width && y < grid.height ? grid.code(x, y) : kCodeUnknown;
   }
   /// True when the cell under p (grid frame) is free space.
   bool isFree(const Vec2& p) const {

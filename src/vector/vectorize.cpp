@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "glassmap/core/angles.hpp"
-#include "piece.hpp"
+#include "structure.hpp"
 
 namespace glassmap::vector {
 
@@ -115,23 +115,48 @@ VectorizeResult vectorize(const LabelGrid& grid, const VectorizeOptions& options
   if (options.walls) walls = fitMaterial(wall_cloud, Material::Wall, options.wall, ctx);
 
   if (options.face_align) alignOneSidedWalls(walls, wall_cloud, ctx);
-  if (options.regularize && !walls.empty()) {
+  std::vector<Piece> clutter;
+  std::vector<detail::Opening> openings;
+  const bool structure = options.structure.enabled && !walls.empty();
+  if (structure) {
+    detail::Structure st = detail::extractStructure(std::move(walls), glass, wall_cloud, ctx);
+    if (options.regularize) detail::snapToDirections(glass, st.directions, ctx);
+    walls = std::move(st.walls);
+    clutter = std::move(st.clutter);
+    for (const double d : st.directions) stats.directions_deg.push_back(rad2deg(d));
+    stats.dominant_axis_deg = st.directions.empty() ? 0.0 : rad2deg(std::fmod(st.directions.front(), 0.5 * kPi));
+    stats.lines = st.lines;
+    stats.bridged = st.bridged;
+    stats.regularized = st.snapped;
+    stats.openings = st.openings.size();
+    for (const detail::Opening& op : st.openings)
+      if (op.door) result.extras.doors.push_back({op.a + grid.origin, op.b + grid.origin});
+    openings = std::move(st.openings);
+  } else if (options.regularize && !walls.empty()) {
     const double axis = dominantAxis(walls, ctx);
     stats.dominant_axis_deg = rad2deg(std::fmod(axis + kPi, 0.5 * kPi));
     regularize(walls, axis, ctx);
     regularize(glass, axis, ctx);
   }
   if (options.corner_snap > 0) snapCorners(glass, walls, ctx);
+  if (structure) {
+    result.extras.rooms = detail::segmentRooms(walls, glass, openings, ctx);
+    for (RoomPolygon& r : result.extras.rooms)
+      for (Vec2& p : r.ring) p += grid.origin;
+  }
 
   result.map.segments.reserve(glass.size() + walls.size());
   for (const Piece& p : glass)
     result.map.segments.push_back(toSegment(p, Material::Glass, glass_cloud, grid, options.glass));
   for (const Piece& p : walls)
     result.map.segments.push_back(toSegment(p, Material::Wall, wall_cloud, grid, options.wall));
-  for (MapSegment& s : result.map.segments) {  // grid frame -> map frame
-    s.a += grid.origin;
-    s.b += grid.origin;
-  }
+  for (const Piece& p : clutter)
+    result.extras.clutter.segments.push_back(toSegment(p, Material::Wall, wall_cloud, grid, options.wall));
+  for (VectorMap* m : {&result.map, &result.extras.clutter})
+    for (MapSegment& s : m->segments) {  // grid frame -> map frame
+      s.a += grid.origin;
+      s.b += grid.origin;
+    }
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -72,6 +72,23 @@ TEST(RayConsistency, ShortAndThroughWallReadingsAreNamed) {
   EXPECT_EQ(r.explained, 2u);
 }
 
+TEST(RayConsistency, NearSegmentReadingForgivesWhatTheBeamCrossedFirst) {
+  VectorMap plan = box();
+  plan.add({3, 1.5}, {3, 2.5}, Material::Wall);  // a cabinet face 1 m east of the pose
+  // East 3.0 m: at the pane, but the cabinet face stands before it: first surface says "through a
+  // wall", the end point lies on the pane. North 2.05: near the wall either way. West 1.5: in the
+  // middle of the room, near nothing. South 1.0: short, near nothing.
+  const ConsistencyResult r = rayConsistency(logWith(3.0f, 2.05f, 1.5f, 1.0f), plan);
+  EXPECT_EQ(r.explained, 1u);
+  EXPECT_EQ(r.through_wall, 1u);
+  EXPECT_EQ(r.near_segment, 2u);
+  EXPECT_DOUBLE_EQ(r.near_share, 0.5);
+  // A reading at the cabinet (1.0 m east) is explained and near.
+  const ConsistencyResult at = rayConsistency(logWith(1.0f, 2.0f, 2.0f, 2.0f), plan);
+  EXPECT_EQ(at.explained, 4u);
+  EXPECT_EQ(at.near_segment, 4u);
+}
+
 TEST(RayConsistency, RangeWindowAndNoReturnsAreNotScored) {
   const VectorMap plan = box();
   ConsistencyOptions o;

@@ -8,56 +8,14 @@
 #include "glassmap/core/angles.hpp"
 #include "glassmap/geometry/optics.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
+#include "ray_test_maps.hpp"
 #include "test_data.hpp"
 
 using namespace glassmap;
+using glassmap::test::randomMap;
+using glassmap::test::seg;
 
 namespace {
-
-MapSegment seg(double ax, double ay, double bx, double by, Material m = Material::Wall, double thickness = 0.1) {
-  MapSegment s;
-  s.a = Vec2(ax, ay);
-  s.b = Vec2(bx, by);
-  s.material = m;
-  s.thickness = thickness;
-  return s;
-}
-
-// A map that collects the awkward cases: axis-aligned and diagonal segments on a coarse lattice
-// (so many share endpoints, touch in T-junctions, overlap collinearly and lie on cell borders),
-// tiny, huge and zero-length segments, plus free random ones.
-VectorMap randomMap(std::mt19937& rng, int count) {
-  std::uniform_real_distribution<double> u(-20.0, 20.0);
-  std::uniform_int_distribution<int> lattice(-10, 10);
-  std::uniform_int_distribution<int> kind(0, 9);
-  VectorMap map;
-  for (int i = 0; i < count; ++i) {
-    const int k = kind(rng);
-    const Material m = (i % 3 == 0) ? Material::Glass : Material::Wall;
-    if (k <= 1) {  // axis-aligned on the lattice
-      const double x = lattice(rng), y = lattice(rng);
-      const double len = 1 + (lattice(rng) + 10) % 6;
-      map.segments.push_back(k == 0 ? seg(x, y, x + len, y, m) : seg(x, y, x, y + len, m));
-    } else if (k == 2) {  // diagonal on the lattice
-      const double x = lattice(rng), y = lattice(rng), len = 1 + (lattice(rng) + 10) % 4;
-      map.segments.push_back(seg(x, y, x + len, y + ((i % 2) ? len : -len), m));
-    } else if (k == 3) {  // tiny
-      const double x = u(rng), y = u(rng);
-      map.segments.push_back(seg(x, y, x + 1e-6 * u(rng), y + 1e-6 * u(rng), m));
-    } else if (k == 4 && i % 7 == 0) {  // huge
-      map.segments.push_back(seg(u(rng) * 50, u(rng) * 50, u(rng) * 50, u(rng) * 50, m));
-    } else if (k == 5 && i % 5 == 0) {  // zero length
-      const double x = lattice(rng), y = lattice(rng);
-      map.segments.push_back(seg(x, y, x, y, m));
-    } else if (k == 6 && !map.segments.empty()) {  // collinear continuation of another segment
-      const MapSegment& o = map.segments[rng() % map.segments.size()];
-      map.segments.push_back(seg(o.b.x(), o.b.y(), 2 * o.b.x() - o.a.x(), 2 * o.b.y() - o.a.y(), m));
-    } else {
-      map.segments.push_back(seg(u(rng), u(rng), u(rng), u(rng), m));
-    }
-  }
-  return map;
-}
 
 void expectSameHit(const RayHit& grid, const RayHit& brute, const std::string& what) {
   ASSERT_EQ(grid.segment, brute.segment) << what;
@@ -79,41 +37,11 @@ std::string describe(const Vec2& o, const Vec2& d, double max_range, int skip) {
 
 // Casts many rays of every kind against `caster` and compares with brute force.
 void compareWithBruteForce(const RayCaster& caster, std::mt19937& rng, int rays) {
-  const Eigen::AlignedBox2d box = caster.map().bounds();
-  const Vec2 size = box.max() - box.min();
-  std::uniform_real_distribution<double> uni(0.0, 1.0);
-  std::uniform_real_distribution<double> angle(-kPi, kPi);
-  const auto& segs = caster.map().segments;
-  const double extent = std::max(size.x(), size.y());
   int hits = 0;
-  for (int i = 0; i < rays; ++i) {
-    const int kind = i % 8;
-    // Origins: mostly inside the bounds, some outside, some exactly on a segment or endpoint.
-    Vec2 o(box.min().x() + (uni(rng) * 1.4 - 0.2) * size.x(), box.min().y() + (uni(rng) * 1.4 - 0.2) * size.y());
-    int skip = -1;
-    if (kind == 1 && !segs.empty()) {
-      const auto id = static_cast<int>(rng() % segs.size());
-      o = segs[id].a + uni(rng) * (segs[id].b - segs[id].a);
-      if (i % 16 == 1) skip = id;
-    } else if (kind == 2 && !segs.empty()) {
-      o = segs[rng() % segs.size()].b;  // on an endpoint
-    } else if (kind == 3) {
-      o = Vec2(std::round(o.x()), std::round(o.y()));  // on the lattice, often on cell borders
-    }
-    Vec2 d(std::cos(angle(rng)), std::sin(angle(rng)));
-    d.normalize();
-    if (kind == 3 || kind == 4) {  // axis-aligned and diagonal
-      const int q = static_cast<int>(rng() % 8);
-      d = Vec2(std::cos(q * kPi / 4), std::sin(q * kPi / 4));
-      if (q % 2 == 0) d = Vec2(std::round(d.x()), std::round(d.y()));
-    } else if (kind == 5 && !segs.empty()) {  // aimed at an endpoint
-      const MapSegment& s = segs[rng() % segs.size()];
-      const Vec2 target = (rng() % 2) ? s.a : s.b;
-      if ((target - o).norm() > 1e-9) d = (target - o).normalized();
-    }
-    double max_range = (0.05 + uni(rng)) * extent;
-    if (i % 11 == 0) max_range = std::numeric_limits<double>::infinity();
-    if (i % 13 == 0) max_range = 1e-3;
+  for (const test::RayCase& c : test::rayCases(caster.map(), rng, rays)) {
+    const Vec2 &o = c.origin, &d = c.dir;
+    const double max_range = c.max_range;
+    const int skip = c.skip;
     const RayHit g = caster.cast(o, d, max_range, skip);
     const RayHit b = caster.castBruteForce(o, d, max_range, skip);
     expectSameHit(g, b, describe(o, d, max_range, skip));

@@ -32,19 +32,37 @@ VectorMap plan() {
   return m;
 }
 
+// Difference of two axial angles (period pi) [rad].
+double axialDiff(double a, double b) { return std::abs(std::remainder(a - b, kPi)); }
+
 TEST(Georeference, GpkgCarriesTheCrsTheOriginAndMovedCoordinates) {
   FloorplanGeoref g;
   g.crs = "EPSG:25832";
   g.origin = Pose2(500000.0, 5400000.0, kPi / 2);
   const fs::path f = scratch("plan.gpkg");
   writeFloorplan(f, plan(), g);
-  const VectorMap back = readFloorplan(f);
+  FloorplanReadOptions building;
+  building.building_frame = true;
+  const VectorMap back = readFloorplan(f, building);
   ASSERT_EQ(back.segments.size(), 2u);
   // (10, 0) in the map frame: 10 m north of the origin after a quarter turn.
   EXPECT_NEAR(back.segments[0].b.x(), 500000.0, 1e-6);
   EXPECT_NEAR(back.segments[0].b.y(), 5400010.0, 1e-6);
   EXPECT_EQ(back.segments[1].material, Material::Glass);
-  EXPECT_NEAR(back.segments[1].pane_angle, kPi / 2, 1e-9);
+  EXPECT_LT(axialDiff(back.segments[1].pane_angle, kPi / 2), 1e-9);
+  // Read as localize, eval and export read it: back in the map frame, told by the file alone.
+  FloorplanReadReport report;
+  FloorplanReadOptions plain;
+  plain.report = &report;
+  const VectorMap map_frame = readFloorplan(f, plain);
+  ASSERT_EQ(map_frame.segments.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_LT((map_frame.segments[i].a - plan().segments[i].a).norm(), 1e-6);
+    EXPECT_LT((map_frame.segments[i].b - plan().segments[i].b).norm(), 1e-6);
+  }
+  EXPECT_LT(axialDiff(map_frame.segments[1].pane_angle, 0.0), 1e-9);
+  ASSERT_FALSE(report.notes.empty());
+  EXPECT_NE(report.notes.back().find("map frame"), std::string::npos);
   GDALAllRegister();
   GDALDatasetUniquePtr ds(GDALDataset::Open(f.string().c_str(), GDAL_OF_VECTOR));
   ASSERT_TRUE(ds);
@@ -70,9 +88,13 @@ TEST(Georeference, GeoJsonNamesItsCrs) {
   std::ifstream in(f);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("EPSG::25832"), std::string::npos);
+  // Its description records the map frame: read back there, or in the CRS when asked.
   const VectorMap back = readFloorplan(f);
   ASSERT_EQ(back.segments.size(), 2u);
-  EXPECT_NEAR(back.segments[0].b.x(), 500010.0, 1e-6);
+  EXPECT_NEAR(back.segments[0].b.x(), 10.0, 1e-6);
+  FloorplanReadOptions building;
+  building.building_frame = true;
+  EXPECT_NEAR(readFloorplan(f, building).segments[0].b.x(), 500010.0, 1e-6);
 }
 
 TEST(Georeference, RefusesGeographicAndUnknownCrs) {

@@ -42,15 +42,19 @@ TEST(FromOccupancy, SolidAreasGiveTheirFacesOnly) {
   const LabelGrid faces = fromOccupancy(solidRoom(), {}, &stats);
   EXPECT_GT(stats.solid_inside, 20000u);
   const VectorizeResult r = vectorize(faces);
-  // Room perimeter 20 m plus the pillar's 4 m, nothing hatched inside the solid black.
-  EXPECT_NEAR(wallLength(r.map), 24.0, 2.0);
-  EXPECT_LE(r.map.count(Material::Wall), 12u);
+  // Room perimeter 20 m, nothing hatched inside the solid black; the free-standing pillar (free
+  // space again 1 m behind each face) is clutter, its 4 m of faces in the clutter layer.
+  EXPECT_NEAR(wallLength(r.map), 20.0, 1.0);
+  EXPECT_LE(r.map.count(Material::Wall), 4u);
   EXPECT_EQ(r.map.count(Material::Glass), 0u);
+  EXPECT_NEAR(wallLength(r.extras.clutter), 3.6, 0.6);  // faces clipped to their cells at the corners
   // Keeping every occupied cell hatches the solid area with many parallel lines.
   OccupancyOptions keep;
   keep.face_cells = -1;
-  const VectorizeResult hatched = vectorize(fromOccupancy(solidRoom(), keep));
-  EXPECT_GT(wallLength(hatched.map), 3.0 * wallLength(r.map));
+  VectorizeOptions plain;
+  plain.structure.enabled = false;
+  const VectorizeResult hatched = vectorize(fromOccupancy(solidRoom(), keep), plain);
+  EXPECT_GT(wallLength(hatched.map), 3.0 * (wallLength(r.map) + wallLength(r.extras.clutter)));
 }
 
 TEST(FromOccupancy, TheOriginAndItsYawPlaceTheFloorplan) {

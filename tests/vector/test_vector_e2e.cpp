@@ -1,12 +1,14 @@
 // End to end on the bundled scenes: simulate (fixed seed) -> pipeline::mapLog with its defaults,
-// as `glassmap map` runs it (direct classifier, MRF, mirror-phantom test, vectorisation, pane
-// fit) -> score the floorplan against the scene's
-// floorplan; then simulate again on the mapped floorplan (read back from GPKG). Thresholds sit
-// just under the figures reached on 2026-11-22 (glass F1 / wall F1 at 0.10 m): paper-corridor
-// 0.95 / 0.84, glass-corridor 1.00 / 0.90, office-floor 0.93 / 0.92, no-glass - / 0.94. The goals
-// are glass F1 >= 0.9, <= 1.5 predicted segments per true pane and wall F1 >= 0.9; wall recall
-// falls short where the robot never saw a wall (paper-corridor: 27% of its wall length); against
-// the walls in line of sight of some laser pose, wall F1 is 0.99 / 0.97 / 0.96 / 0.99.
+// as `glassmap map` runs it (direct classifier, MRF, mirror-phantom test, vectorisation with the
+// structure step, pane fit) -> score the floorplan's walls and glass against the scene's structure
+// (its walls and glass; the desks, outlines 0.08 m thick, are furniture and belong in the clutter
+// layer); then simulate again on the mapped floorplan (read back from GPKG). Thresholds sit just
+// under the figures reached on 2026-11-25 (glass F1 / wall F1 at 0.10 m): paper-corridor
+// 0.95 / 0.88, glass-corridor 1.00 / 0.94, office-floor 0.92 / 0.94, no-glass - / 0.98 (against
+// the whole plan, desks included, before the structure step: 0.84 / 0.90 / 0.92 / 0.94). Wall
+// recall falls short where the robot never saw a wall (paper-corridor's far rooms); against the
+// walls in line of sight of some laser pose, wall F1 is 0.95 / 0.94 / 0.94 / 0.98. Of the desks'
+// outlines 0-11% lies in the walls, 37-57% in the clutter layer (the rest was never seen whole).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -29,7 +31,8 @@ struct Expectation {
   double min_glass_f1;  // at 0.10 m
   double max_oversegmentation;
   double min_wall_f1;
-  double min_seen_wall_f1;  // recall against the walls some laser pose had in line of sight
+  double min_seen_wall_f1;      // recall against the walls some laser pose had in line of sight
+  double min_desks_as_clutter;  // recall of the desks' outlines by the clutter layer
 };
 
 class SceneE2E : public ::testing::TestWithParam<Expectation> {};
@@ -61,13 +64,24 @@ TEST_P(SceneE2E, FloorplanMatchesTheScene) {
   const sim::SimResult& run = m.run;
   EXPECT_TRUE(m.mapped.has_floorplan);
   const VectorizeResult& v = m.mapped.floorplan;
-  const eval::SegmentEvalResult e = eval::evaluateSegments(scene.map, v.map);
+  // The building is the scene's walls and glass; its desks (outlines 0.08 m thick) are furniture,
+  // which the plan keeps in its clutter layer, out of the walls.
+  VectorMap structure, desks;
+  for (const MapSegment& s : scene.map.segments)
+    (s.material == Material::Wall && s.thickness < 0.1 ? desks : structure).segments.push_back(s);
+  const eval::SegmentEvalResult e = eval::evaluateSegments(structure, v.map);
   std::cout << x.scene << ": glass P " << e.glass.precision << " R " << e.glass.recall << " F1 " << e.glass.f1 << ", "
             << e.glass.pred_segments << "/" << e.glass.truth_segments << " segments, " << e.segments_per_found_pane
             << " per found pane, angle error " << e.glass_angle_error_deg << " deg; wall P " << e.wall.precision
             << " R " << e.wall.recall << " F1 " << e.wall.f1 << "; vectorised in " << v.stats.seconds << " s\n";
   EXPECT_GE(e.wall.f1, x.min_wall_f1);
-  const VectorMap seen = eval::visiblePart(scene.map, eval::viewpointsOfLog(run.log));
+  const double desks_as_walls = eval::evaluateSegments(desks, v.map).wall.recall;
+  const double desks_as_clutter = eval::evaluateSegments(desks, v.extras.clutter).wall.recall;
+  std::cout << x.scene << ": desk outline length found in the walls " << desks_as_walls << ", in the clutter layer "
+            << desks_as_clutter << "\n";
+  EXPECT_LE(desks_as_walls, 0.15);
+  EXPECT_GE(desks_as_clutter, x.min_desks_as_clutter);
+  const VectorMap seen = eval::visiblePart(structure, eval::viewpointsOfLog(run.log));
   const double seen_recall = eval::evaluateSegments(seen, v.map).wall.recall;
   const double seen_f1 = 2 * e.wall.precision * seen_recall / (e.wall.precision + seen_recall);
   std::cout << x.scene << ": wall recall over the truth seen from the log " << seen_recall << ", F1 " << seen_f1
@@ -127,10 +141,10 @@ TEST(PeopleE2E, PassersByDoNotBecomeGlassCells) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, SceneE2E,
-                         ::testing::Values(Expectation{"paper-corridor", 0.92, 1.5, 0.81, 0.97},
-                                           Expectation{"glass-corridor", 0.95, 0.5, 0.87, 0.95},
-                                           Expectation{"office-floor", 0.90, 1.0, 0.90, 0.93},
-                                           Expectation{"no-glass", 0.0, 0.0, 0.91, 0.97}),
+                         ::testing::Values(Expectation{"paper-corridor", 0.92, 1.5, 0.85, 0.93, 0.35},
+                                           Expectation{"glass-corridor", 0.95, 0.5, 0.92, 0.92, 0.45},
+                                           Expectation{"office-floor", 0.90, 1.0, 0.91, 0.92, 0.30},
+                                           Expectation{"no-glass", 0.0, 0.0, 0.95, 0.95, 0.30}),
                          [](const auto& info) {
                            std::string n = info.param.scene;
                            for (char& c : n)

@@ -8,8 +8,8 @@
 #include <memory>
 
 #include "glassmap/glass/mapping.hpp"
-#include "glassmap/io/log.hpp"
 #include "glassmap/io/floorplan.hpp"
+#include "glassmap/io/log.hpp"
 #include "glassmap/sim/scene.hpp"
 #include "glassmap/sim/simulator.hpp"
 #include "glassmap/vector/from_evidence.hpp"

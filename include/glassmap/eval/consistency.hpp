@@ -9,6 +9,10 @@
 /// through counts. The others are split by what the plan says about them: "short" readings end in
 /// space the plan holds empty (clutter, people, furniture, or a wall the plan misses), "through
 /// wall" readings run more than `tolerance` beyond a wall (the plan or the pose is wrong there).
+///
+/// A second, looser reading counts a return as near the plan when its end point lies within
+/// `tolerance` of any segment, whatever the beam crossed on its way (the reading others report:
+/// it forgives a plan that draws a surface the beam would have met first).
 
 #include <cstddef>
 
@@ -19,9 +23,9 @@ namespace glassmap::eval {
 
 /// What counts as a return and how close it must be.
 struct ConsistencyOptions {
-  double tolerance = 0.10;   ///< |reading - surface| at most this [m]
-  double max_range = 8.0;    ///< returns up to this range are scored [m]
-  double min_range = 0.05;   ///< returns below this are the sensor's dead zone, not scored [m]
+  double tolerance = 0.10;    ///< |reading - surface| at most this [m]
+  double max_range = 8.0;     ///< returns up to this range are scored [m]
+  double min_range = 0.05;    ///< returns below this are the sensor's dead zone, not scored [m]
   std::size_t max_scans = 0;  ///< scans used, spread evenly over the log; 0: all
 };
 
@@ -34,6 +38,8 @@ struct ConsistencyResult {
   std::size_t short_of_plan = 0;  ///< ending in space the plan holds empty
   std::size_t through_wall = 0;   ///< running more than the tolerance through a wall
   double explained_share = 0.0;   ///< explained / returns (0 when there are none)
+  std::size_t near_segment = 0;   ///< returns whose end point lies within the tolerance of a segment
+  double near_share = 0.0;        ///< near_segment / returns
   std::size_t segments = 0;       ///< segments of the plan
   std::size_t wall_segments = 0, glass_segments = 0;
   double wall_length = 0.0, glass_length = 0.0;  ///< [m]

@@ -27,6 +27,24 @@ struct RayHit {
   bool hit() const { return segment >= 0; }
 };
 
+/// Instruction sets of RayCaster::castBatch. Auto: the best the CPU has (AVX-512 F+DQ, else
+/// AVX2, else scalar), unless the environment variable GLASSMAP_RAY_ISA names one
+/// (scalar / avx2 / avx512; one the CPU lacks falls back to the best it has).
+enum class RayIsa { Auto, Scalar, Avx2, Avx512 };
+
+/// Rays for RayCaster::castBatch as structure of arrays: ray i starts at (ox[i], oy[i]) [m] along
+/// the unit direction (ux[i], uy[i]).
+struct RayBatch {
+  const double* ox = nullptr;
+  const double* oy = nullptr;
+  const double* ux = nullptr;
+  const double* uy = nullptr;
+  const double* max_range = nullptr;   ///< per ray [m], or null: `range` for every ray
+  double range = 0.0;                  ///< max range of every ray when max_range is null [m]
+  const std::int32_t* skip = nullptr;  ///< per ray segment id to ignore (-1: none), or null: none
+  std::size_t size = 0;                ///< number of rays
+};
+
 /// Settings of the spatial index.
 struct RayCasterOptions {
   double cell_size = 0.0;  ///< grid cell [m]; 0 picks one from the segment density
@@ -60,6 +78,25 @@ class RayCaster {
   /// range [m] to ranges[k], or `max_range` when nothing is hit. Directions come from one
   /// sin/cos and a rotation recurrence (relative error ~1e-15 per beam).
   void castScan(const Vec2& origin, double start_angle, double step, int count, double max_range, double* ranges) const;
+
+  /// castSurface() of every ray of `rays`, several rays at a time with SIMD (one ray per lane,
+  /// each walking its own cells; see RayIsa), bit for bit the single casts: range[i] is
+  /// castRange()'s (+infinity for no hit), segment[i] (when not null) the segment id or -1.
+  void castBatch(const RayBatch& rays, double* range, std::int32_t* segment = nullptr, RayIsa isa = RayIsa::Auto) const;
+  /// castBatch for rays that come in coherent groups, e.g. one beam from many nearby particles:
+  /// group g is rays [g == 0 ? 0 : group_end[g - 1], group_end[g]). A group shares one walk: its
+  /// rays lie in a thin wedge (origins within a small disc, directions within a narrow cone), the
+  /// wedge is swept slab by slab along its axis, and every segment listed in a cell the sweep
+  /// touches is tested against the group's undecided rays at once; a ray is decided when the sweep
+  /// has passed its best hit (nothing nearer can be left). The same hit test as the walk, the
+  /// nearest hit and ties to the lower id: bit for bit castBatch. Groups that are not coherent
+  /// (directions over 20 deg apart, origins outside the grid, non-finite input) go to castBatch.
+  void castGroups(const RayBatch& rays, const std::size_t* group_end, std::size_t groups, double* range,
+                  std::int32_t* segment = nullptr) const;
+  /// The instruction set castBatch uses for RayIsa::Auto, and whether the CPU can run `isa`.
+  static RayIsa bestIsa();
+  static bool isaAvailable(RayIsa isa);
+  static const char* isaName(RayIsa isa);
 
   /// Same as cast() by testing every segment: the reference for tests.
   RayHit castBruteForce(const Vec2& origin, double angle, double max_range, std::int32_t skip = -1) const;
@@ -99,6 +136,14 @@ class RayCaster {
   std::vector<SegPair> items_;             // CSR payload: copies of each cell's segments, two by two
   std::vector<std::uint32_t> cell_items_;  // CSR payload: segment id of each lane (2 per pair)
   std::vector<std::uint32_t> cell_start_;  // CSR: cell -> [start, end) pairs in items_
+  // The batch kernels' copy of the lists (src/geometry/ray_batch.hpp): one entry per segment
+  // and cell, no padding; cells padded with a border ring whose span is -1.
+  struct alignas(32) Seg4 {
+    double ax, ay, dx, dy;
+  };
+  std::vector<Seg4> flat_;
+  std::vector<std::int32_t> flat_ids_;
+  std::vector<std::int64_t> spans_;  // (nx + 2) x (ny + 2): start | end << 32 into flat_
   double cell_ = 1.0;
   double inv_cell_ = 1.0;
   Vec2 origin_ = Vec2::Zero();  // lower-left corner of the grid [m]

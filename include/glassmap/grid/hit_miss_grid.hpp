@@ -68,6 +68,8 @@ class HitMissGrid {
   /// Adds other's counts (same geometry) cell by cell, saturating like addHit/addMiss: a grid
   /// filled in parts and merged equals one filled in one go, whatever the order.
   void merge(const HitMissGrid& other);
+  /// The same, taking over other's tiles where this grid has none (no copy); other is left empty.
+  void merge(HitMissGrid&& other);
 
   /// True if the tile holding (x, y) is allocated.
   bool tileAllocated(int x, int y) const { return static_cast<bool>(tiles_[tileIndex(x, y)]); }

@@ -41,6 +41,11 @@ struct FloorplanReadOptions {
   FloorplanUnits* units = nullptr;        ///< if set, receives what was assumed
   std::vector<LayerRule> layer_rules;     ///< user rules, tried before the built-in layer table
   FloorplanReadReport* report = nullptr;  ///< if set, receives what was read as what
+  bool clutter = true;                    ///< read a CLUTTER layer of ours as walls (every surface a laser
+                                          ///< sees: localize, calibrate); false: the building only (eval
+                                          ///< segments, export); DOOR and ROOMS layers are never surfaces
+  bool building_frame = false;            ///< keep a georeferenced GPKG in its CRS instead of moving it back
+                                          ///< into the map frame it records
 };
 
 /// Metres per unit of a unit name: m, dm, cm, mm, km, in, ft, us-ft, yd; or a positive number
@@ -55,6 +60,9 @@ std::string implausibleExtentWarning(const VectorMap& map, const FloorplanUnits&
                                      const std::filesystem::path& path);
 
 /// Reads every line of any OGR vector source: LineString, MultiLineString and polygon rings;
+/// our extra layers (floorplan_extras.hpp: clutter, doors, rooms) are skipped, and a GPKG that
+/// records its map frame's origin (writeFloorplan with a FloorplanGeoref) is read back in that
+/// map frame (unless options.building_frame), said in the report's notes;
 /// a polyline becomes its consecutive segments. Material from the `material` field (or DXF XDATA),
 /// else from the CAD layer (`Layer` field): options.layer_rules, then standardLayerRules() (wall,
 /// glass, or ignored: annotation, doors, furniture, ...), unknown names as wall; else from the OGR

@@ -7,12 +7,20 @@
 
 namespace glassmap::localize {
 
-/// Noise of the odometry motion model: the four alphas of Probabilistic Robotics.
+/// Noise of the odometry motion model: the four alphas of Probabilistic Robotics (variances that
+/// grow with the square of each step: a scale error, the same share of every step) plus random
+/// walks (variances that grow with the step: wheel slip and encoder noise, which add up over a
+/// path whatever the rate the log was recorded at). The alphas alone make the noise per metre
+/// depend on the step: at 1 cm steps a 22% alpha is 2 cm per metre, at 1 m steps 22 cm, so a log
+/// subsampled to 1 m steps would drift along every corridor.
 struct OdometryNoise {
-  double alpha1 = 0.05;  ///< rotation noise from rotation [rad^2 / rad^2]
-  double alpha2 = 0.01;  ///< rotation noise from translation [rad^2 / m^2]
-  double alpha3 = 0.05;  ///< translation noise from translation [m^2 / m^2]
-  double alpha4 = 0.01;  ///< translation noise from rotation [m^2 / rad^2]
+  double alpha1 = 0.0025;       ///< rotation noise from rotation [rad^2 / rad^2] (5%)
+  double alpha2 = 0.0012;       ///< rotation noise from translation [rad^2 / m^2] (2 deg per metre)
+  double alpha3 = 0.0025;       ///< translation noise from translation [m^2 / m^2] (5%)
+  double alpha4 = 0.001;        ///< translation noise from rotation [m^2 / rad^2]
+  double walk_trans = 6.4e-4;   ///< translation random walk [m^2 per m] (2.5 cm after 1 m)
+  double walk_heading = 1.3e-4; ///< heading random walk from translation [rad^2 per m] (0.65 deg after 1 m)
+  double walk_turn = 8.8e-4;    ///< heading random walk from turning [rad^2 per rad] (1.7 deg after 1 rad)
 };
 
 /// An odometry increment split into rotate, translate, rotate.
@@ -26,8 +34,11 @@ struct OdometryDelta {
 /// under 1 mm gets rot1 = 0 (the direction of a tiny step is noise).
 OdometryDelta odometryDelta(const Pose2& from, const Pose2& to);
 
-/// Samples x' ~ p(x' | u, x) with u = delta (Probabilistic Robotics eq. 5.37-5.45). Backward motion
-/// (rot1 near +-pi) is folded into a negative translation so it does not count as two half turns.
+/// Samples x' ~ p(x' | u, x) with u = delta (Probabilistic Robotics eq. 5.37-5.45, the variances
+/// extended by the random walks: rot_i: alpha1 rot_i^2 + alpha2 trans^2 + walk_turn |rot_i| +
+/// walk_heading |trans| / 2; trans: alpha3 trans^2 + alpha4 (rot1^2 + rot2^2) + walk_trans |trans|).
+/// Backward motion (rot1 near +-pi) is folded into a negative translation so it does not count as
+/// two half turns.
 Pose2 sampleMotionOdometry(const Pose2& x, const OdometryDelta& delta, const OdometryNoise& noise,
                            std::mt19937_64& rng);
 

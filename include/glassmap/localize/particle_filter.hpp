@@ -1,10 +1,24 @@
 #pragma once
-/// Monte Carlo localization: particles over laser poses in the map frame, odometry motion model,
-/// a SensorModel, low-variance resampling when the effective sample size drops, KLD-sampling
-/// adaptive particle count and augmented-MCL random-particle injection (Probabilistic Robotics
-/// tables 4.4, 8.3, 8.4).
+/// Monte Carlo localization with several hypotheses: particles over laser poses in the map frame,
+/// odometry motion model, a SensorModel, low-variance resampling when the effective sample size
+/// drops, KLD-sampling adaptive particle counts (Probabilistic Robotics tables 4.4, 8.2, 8.4).
+///
+/// The particles are kept in hypotheses (a clustered particle filter, after Milstein et al.,
+/// "Robust global localization using clustered particle filtering", AAAI 2002): each is resampled
+/// on its own, so a mode with little weight is not wiped out by one lucky scan of another, and each
+/// carries its probability (its "mass"), updated by the marginal likelihood of every scan under it
+/// (Bayesian model comparison between the places the robot could be). A global localization
+/// starts with one broad hypothesis over the free space that splits into modes as the scans
+/// concentrate it; the filter is converged when one tight mode holds all but a negligible mass.
+///
+/// Recovery never replaces a tracked cloud on one bad scan: when the evidence says the robot may
+/// be lost (the likelihood drops below its long-run average, or readings run through walls the
+/// model cannot explain), a probe (a broad hypothesis of random particles) starts beside the
+/// tracked one with a small prior mass, and takes over only if the scans that follow favour it by
+/// more than that prior (a sequential likelihood-ratio test); otherwise it dies out.
 
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -14,50 +28,89 @@
 
 namespace glassmap::localize {
 
-/// One hypothesis.
+/// One particle.
 struct Particle {
   Pose2 pose;          ///< T_map_laser
-  double log_w = 0.0;  ///< log weight (normalised so that the weights sum to 1)
+  double log_w = 0.0;  ///< log weight (normalised within its hypothesis; particles(): overall)
+};
+
+/// One hypothesis: particles around one mode (or, while broad, spread over the free space).
+struct Hypothesis {
+  std::vector<Particle> particles;  ///< log weights normalised within the hypothesis
+  double log_mass = 0.0;            ///< log P(robot in this hypothesis | data), normalised over all [-]
+  bool broad = false;               ///< random particles not yet split into modes (annealed)
+  bool probe = false;               ///< started as a recovery probe and not yet the best
+  double born_m = 0.0;              ///< the filter's travel when it was made [m]
+  Pose2 estimate;                   ///< weighted mean near its heaviest cell (last correct())
+  double spread = 0.0;              ///< weighted RMS distance of its particles from estimate [m]
+  double fit = 0.0;                 ///< short-term average of its per-beam marginal likelihood [-]
+  std::uint64_t id = 0;             ///< unique within the filter
+};
+
+/// How the filter recovers when the robot may be lost.
+enum class Recovery {
+  Probe,   ///< a probe hypothesis that must win a likelihood-ratio test (default)
+  Inject,  ///< plain augmented MCL: random particles into the cloud whenever the likelihood drops
+  None     ///< never
 };
 
 /// Options of the filter.
 struct FilterOptions {
-  int max_particles = 2000;              ///< particle count after a global init, and the KLD upper bound
-  int min_particles = 100;               ///< KLD lower bound
-  bool adaptive = true;                  ///< KLD sampling; false keeps max_particles always
-  double kld_epsilon = 0.05;             ///< KLD error bound [-]
-  double kld_z = 2.33;                   ///< upper standard-normal quantile of 1 - delta (0.99) [-]
-  double kld_bin_xy = 0.25;              ///< KLD histogram bin [m]
-  double kld_bin_theta = deg2rad(10.0);  ///< KLD histogram bin [rad]
-  double resample_ess = 0.5;             ///< resample when ESS < this fraction of the count [-]
-  double alpha_slow = 0.001;             ///< augmented MCL: long-term likelihood average rate [-]
-  double alpha_fast = 0.1;               ///< augmented MCL: short-term likelihood average rate [-]
-  bool inject = true;                    ///< inject random particles when the likelihood collapses
-  /// Recovery only when the map contradicts the estimate: a reading longer than the walls allow
-  /// (through a wall, by more than contradiction_gate) cannot come from the right pose, while
-  /// clutter, people and unmapped furniture only shorten readings. Injection and re-initialisation
-  /// happen only while the smoothed share of such readings at the best particle exceeds
-  /// contradiction_share; false: whenever the likelihood drops (plain augmented MCL).
-  bool inject_only_when_contradicted = true;
-  double contradiction_gate = 0.5;    ///< [m]
-  double contradiction_share = 0.15;  ///< [-]
-  double contradiction_rate = 0.3;    ///< smoothing of the share per update [-]
-  double trust_after_m = 30.0;        ///< after a global localization the gate applies only once the
-                                      ///< cloud has stayed converged over this much travel [m]: a cloud
-                                      ///< that settled on a look-alike place still needs injection
-  double relocalize_ratio = 0.02;     ///< w_fast / w_slow below this: the robot is lost beyond what
-                                      ///< injection repairs; restart global localization (0 = never)
-  double free_clearance = 0.2;        ///< random particles keep this distance from segments [m]
-  double free_reach = 40.0;           ///< ... and lie within this of some segment's box [m]: farther, a
-                                      ///< laser sees nothing (bounds memory when a map has strays far away)
-  double global_temperature = 30.0;   ///< while the cloud is spread (global localization), the
-                                      ///< log-likelihoods are divided by this: annealing that keeps
-                                      ///< near-miss hypotheses alive [-]; 1 = off
-  double converged_spread = 0.5;      ///< the cloud counts as converged below this std dev [m] ...
-  double anneal_min_travel = 5.0;     ///< ... after the robot travelled at least this far [m];
-                                      ///< meanwhile KLD keeps at least max_particles / 10
-  OdometryNoise noise;                ///< motion model noise
-  std::uint64_t seed = 1;             ///< random seed: equal seeds give equal runs
+  int max_particles = 2000;                ///< particles of a hypothesis, and the KLD upper bound
+  int min_particles = 500;                 ///< KLD lower bound of the best hypothesis
+  int global_particles = 0;                ///< particles of a global initialisation or probe (0: max_particles)
+  bool adaptive = true;                    ///< KLD sampling; false keeps max_particles always
+  double kld_epsilon = 0.05;               ///< KLD error bound [-]
+  double kld_z = 2.33;                     ///< upper standard-normal quantile of 1 - delta (0.99) [-]
+  double kld_bin_xy = 0.25;                ///< KLD histogram bin [m]
+  double kld_bin_theta = deg2rad(10.0);    ///< KLD histogram bin [rad]
+  double resample_ess = 0.5;               ///< resample when ESS < this fraction of the count [-]
+  Recovery recovery = Recovery::Probe;     ///< what happens when the robot may be lost
+  double alpha_slow = 0.001;               ///< long-term average rate of the per-beam likelihood [-]
+  double alpha_fast = 0.1;                 ///< short-term average rate [-]
+  double probe_ratio = 0.3;                ///< a probe starts when the short-term likelihood falls under
+                                           ///< this fraction of the long-term one ...
+  double contradiction_gate = 0.5;         ///< ... or readings run over this far through a wall [m] ...
+  double contradiction_share = 0.15;       ///< ... at more than this share of the beams (smoothed) [-],
+                                           ///< which clutter never does (it shortens readings)
+  double contradiction_rate = 0.3;         ///< smoothing of that share per update [-]
+  double probe_prior = 1e-4;               ///< prior probability of "lost" a probe starts with [-]
+  double probe_fit = 0.7;                  ///< a probe may lead only once its places explain the scans at
+                                           ///< least this well, per beam, against the long-term average of
+                                           ///< tracking: where the map explains nothing (clutter, a room
+                                           ///< it lacks), a place that explains a little more by chance
+                                           ///< is no reason to jump [-]
+  double novelty_m = 0.2;                  ///< masses take a scan's evidence in full only after this much
+                                           ///< motion (translation + 0.5 m/rad of turning) since the last
+                                           ///< update, in proportion below: scans from nearly the same pose
+                                           ///< repeat the same clutter and map errors, not new evidence [m]
+  double probe_life_m = 8.0;               ///< a probe that has not won after this travel is dropped [m]
+  double probe_cooldown_m = 1.0;           ///< travel between the end of a probe and the next [m]
+  double recheck_m = 5.0;                  ///< after a global localization converged, a probe every this
+  double trust_after_m = 30.0;             ///< much travel [m] until it stayed converged over this [m]
+  double prune_nats = 25.0;                ///< hypotheses this far below the best in log mass are dropped
+  int max_hypotheses = 24;                 ///< at most this many hypotheses (the lightest go first)
+  int min_hypothesis_particles = 60;       ///< KLD lower bound of the other hypotheses
+  double split_after_m = 1.0;              ///< a broad hypothesis splits into modes after this travel [m]
+  double cluster_cell = 1.0;               ///< cells of the mode search [m] ...
+  double cluster_heading = deg2rad(30.0);  ///< ... and headings [rad]
+  double refine_step = 0.2;                ///< while hypotheses compete, each is moved onto the nearest optimum
+  double refine_turn = deg2rad(4.0);       ///< of the scan's likelihood by a pattern search from these
+  int refine_levels = 5;                   ///< steps [m, rad], halved this many times (0: no search);
+  int refine_broad = 16;                   ///< in a broad hypothesis, its heaviest this many particles climb
+  double merge_distance = 0.5;             ///< hypotheses whose estimates are this close merge [m] ...
+  double merge_heading = deg2rad(20.0);    ///< ... and this close in heading [rad]
+  double converged_doubt = 1e-3;           ///< converged: the other hypotheses hold less mass than this,
+  double converged_spread = 0.5;           ///< and the best one's spread is under this [m] ...
+  double anneal_min_travel = 5.0;          ///< ... after a global start, the robot travelled this [m]
+  double free_clearance = 0.2;             ///< random particles keep this distance from segments [m]
+  double free_reach = 40.0;                ///< ... and lie within this of some segment's box [m]: farther, a
+                                           ///< laser sees nothing (bounds memory when a map has strays far away)
+  double global_temperature = 30.0;        ///< in a broad hypothesis the log-likelihoods of its particles are
+                                           ///< divided by this (annealing: near-miss poses stay alive) [-]
+  double relocalize_ratio = 0.02;          ///< Recovery::Inject: a collapse under this ratio restarts globally
+  OdometryNoise noise;                     ///< motion model noise
+  std::uint64_t seed = 1;                  ///< random seed: equal seeds give equal runs
 };
 
 /// The particle filter over a sensor model's map.
@@ -65,65 +118,86 @@ class ParticleFilter {
  public:
   ParticleFilter(const sensor::SensorModel& model, FilterOptions options);
 
-  /// Particles drawn around `pose` with std devs sigma_xy [m] and sigma_theta [rad].
+  /// One hypothesis of max_particles particles drawn around `pose` with std devs sigma_xy [m] and
+  /// sigma_theta [rad].
   void initialize(const Pose2& pose, double sigma_xy = 0.1, double sigma_theta = deg2rad(5.0));
-  /// max_particles particles uniform over the free space of the map's bounding box.
+  /// One broad hypothesis of global_particles particles uniform over the free space.
   void initializeGlobal();
 
   /// Moves every particle by the odometry increment (in the laser frame).
   void predict(const OdometryDelta& delta);
-  /// Weights by the beams, updates the w_slow/w_fast averages and resamples when the ESS drops.
-  /// Returns true when it resampled.
+  /// Weights by the beams, updates the hypotheses' masses, splits, merges and prunes them, starts
+  /// a probe when the evidence says lost, and resamples each whose ESS dropped. Returns true when
+  /// some hypothesis was resampled.
   bool correct(const sensor::BeamSet& beams);
 
-  /// Pose estimate: weighted mean of the particles near the heaviest cluster.
+  /// Pose estimate: the best hypothesis's weighted mean near its heaviest cell, of the weighted
+  /// particles before resampling (resampling only adds noise to the mean).
   Pose2 estimate() const;
-  /// Weighted std dev of the particle positions around estimate() [m].
+  /// RMS distance of the particles of hypotheses holding at least converged_doubt of the mass from
+  /// estimate(), mass-weighted [m]: small for one tight mode, large for a spread or split cloud.
   double spread() const;
-  /// Effective sample size 1 / sum w^2 [-].
+  /// True when one tight hypothesis holds all but converged_doubt of the mass (see FilterOptions).
+  bool converged() const;
+  /// Effective sample size 1 / sum w^2 over all particles [-].
   double effectiveSampleSize() const;
-  const std::vector<Particle>& particles() const { return particles_; }
-  std::size_t size() const { return particles_.size(); }
-  /// True while the log-likelihoods are tempered (after a global init until the cloud converges).
-  bool annealing() const { return annealing_; }
-  /// Global re-initialisations after a collapse (kidnapping) so far.
+  /// Every particle, log weights normalised over all of them (hypothesis mass included).
+  std::vector<Particle> particles() const;
+  const std::vector<Hypothesis>& hypotheses() const { return hyps_; }
+  /// The best hypothesis (highest mass).
+  const Hypothesis& best() const;
+  std::size_t size() const;
+  /// True while a broad hypothesis holds a share of the mass above converged_doubt.
+  bool annealing() const;
+  /// Times the estimate jumped to another hypothesis (a probe or a rival mode won).
   std::size_t relocalizations() const { return relocalizations_; }
-  /// Random particles injected at the last resampling.
+  /// Random particles drawn at the last correct() (a probe, injection or restart).
   std::size_t lastInjected() const { return last_injected_; }
-  /// Smoothed share of readings at the best particle that run through a wall [-].
-  double contradiction() const { return contradiction_; }
-  /// True when recovery (injection, re-initialisation) may act now.
-  bool mayRecover() const;
-  /// A random pose in free space.
+  /// Probes started so far.
+  std::size_t probes() const { return probes_; }
+  /// Smoothed share of readings at the best particle that run through a wall unexplained [-].
+  double contradiction() const { return contradiction_; }  /// A random pose in free space.
   Pose2 randomFreePose();
+  /// The motion model's noise, and a new one (self-calibration).
+  const OdometryNoise& motionNoise() const { return opt_.noise; }
+  void setMotionNoise(const OdometryNoise& noise) { opt_.noise = noise; }
+  /// Public for tests: the centres random particles are drawn around.
+  const std::vector<Vec2>& freeCells() const { return free_cells_; }
 
  private:
-  void resample();
   void collectFreeCells();
-  void normalise();
+  Hypothesis makeBroad(std::size_t count, double log_mass);
+  void weigh(const sensor::BeamSet& beams);
+  void updateContradiction(const sensor::BeamSet& beams);
+  void maybeStartProbe();
+  void organise();  // split, merge, prune, normalise
+  bool resample(Hypothesis& h, bool is_best, bool force = false);
+  void refine(Hypothesis& h, const sensor::BeamSet& beams);
+  double climb(Pose2& x, const sensor::BeamSet& beams) const;  // local search; returns log p(z | x)
+  void injectAugmented(Hypothesis& h, std::size_t count);
+  std::size_t bestIndex() const;
 
   const sensor::SensorModel& model_;
   FilterOptions opt_;
   std::mt19937_64 rng_;
-  std::vector<Particle> particles_;
-  /// Public for tests: the centres random particles are drawn around.
- public:
-  const std::vector<Vec2>& freeCells() const { return free_cells_; }
-
- private:
-  std::vector<Vec2> free_cells_;  // centres of free cells to draw random particles from
-  double free_cell_ = 0.1;        // their size [m]
-  double w_slow_ = 0.0, w_fast_ = 0.0;
-  std::vector<Pose2> poses_;  // the particles' poses, contiguous, for the model's batch call
-  RayCaster walls_;             // the map's walls only: glass may be seen through
-  double contradiction_ = 0.0;  // smoothed share of readings through a wall at the best particle
-  bool known_start_ = false;    // initialised at a given pose (not globally)
-  double converged_at_ = -1.0;  // travelled_ when a global localization's cloud converged, < 0: not yet
-  std::size_t last_injected_ = 0;
-  bool annealing_ = false;
-  std::size_t relocalizations_ = 0;
-  double travelled_ = 0.0;  // since the global init [m]
-  std::vector<double> scratch_;
+  std::vector<Hypothesis> hyps_;
+  std::vector<Vec2> free_cells_;        // centres of free cells to draw random particles from
+  double free_cell_ = 0.1;              // their size [m]
+  RayCaster walls_;                     // the map's walls only: glass may be seen through
+  double w_slow_ = 0.0, w_fast_ = 0.0;  // per-beam likelihood averages of the best hypothesis
+  double contradiction_ = 0.0;
+  double travelled_ = 0.0;        // since the last initialisation [m]
+  double moved_ = 0.0;            // motion since the last correct() (translation + 0.5 m/rad) [m]
+  bool global_start_ = false;     // initialised globally (not at a given pose)
+  double converged_at_m_ = -1.0;  // travel when a global start first converged; < 0 not yet
+  double probe_ended_m_ = -1e9;   // travel when the last probe ended [m]
+  double last_recheck_m_ = 0.0;   // travel at the last re-check probe [m]
+  std::uint64_t next_id_ = 1;
+  std::uint64_t best_id_ = 0;
+  Pose2 best_estimate_;
+  std::size_t relocalizations_ = 0, last_injected_ = 0, probes_ = 0;
+  std::vector<Pose2> poses_;  // all particles' poses, contiguous, for the model's batch call
+  std::vector<double> ll_;
 };
 
 /// Low-variance (systematic) resampling: indices of `count` draws from normalised `weights`

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <vector>
 
+#include "glassmap/io/floorplan.hpp"
+
 #include "glassmap/glass/evidence.hpp"
 #include "glassmap/io/labels_raster.hpp"
 #include "glassmap/io/ros_map.hpp"
@@ -29,8 +31,9 @@ inline constexpr const char* kMapManifest = "stats.json";
 /// Everything is first written into a hidden staging folder inside `dir`; only when every file is
 /// complete is the previous run's manifest (kMapManifest) removed, each file renamed into place,
 /// and the previous run's floorplan files removed when this run writes none. A failure or a
-/// signal before that leaves `dir` as it was. Returns the paths written.
+/// signal before that leaves `dir` as it was. Returns the paths written. With `georef`, the
+/// floorplan files are in the building's CRS (the rasters and map.yaml stay in the map frame).
 std::vector<std::filesystem::path> writeMapFiles(const std::filesystem::path& dir, const MapResult& result,
-                                                 bool floorplan_files = true);
+                                                 bool floorplan_files = true, const FloorplanGeoref* georef = nullptr);
 
 }  // namespace glassmap::pipeline

@@ -51,6 +51,9 @@ std::size_t gridMemoryBudget(std::size_t budget_bytes, const LaserLog& log);
 /// Peak resident memory of this process [bytes].
 std::size_t peakMemoryBytes();
 
+/// A sensor model's parameters as JSON (mixture weights normalised).
+nlohmann::json sensorParamsJson(const sensor::SensorParams& params);
+
 /// The summary of a localization run (`glassmap localize --json`).
 nlohmann::json localizeSummaryJson(const LocalizeResult& result, const LocalizeOptions& options);
 

@@ -17,6 +17,7 @@ class BeamModel final : public SensorModel {
   double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const override;
   void logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const override;
   const VectorMap& map() const override { return map_; }
+  void setParams(const SensorParams& params) override;
 
  private:
   double probability(const Vec2& origin, const Vec2& dir, double z, double max_range) const;

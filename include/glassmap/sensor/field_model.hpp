@@ -58,9 +58,11 @@ class FieldModel final : public SensorModel {
   double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const override;
   void logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const override;
   const VectorMap& map() const override { return map_; }
+  void setParams(const SensorParams& params) override;
   const DistanceGrid& grid() const { return grid_; }
 
  private:
+  void tabulate(const SensorParams& params);  // weights, sigma and the log-p table
   /// log(w_hit N(d; 0, sigma) + w_rand / max_range) at distance d: from the table when max_range
   /// is the one it was built for, else computed.
   double logHit(double d, double max_range) const;

@@ -38,14 +38,38 @@ class GlassModel final : public SensorModel {
   double logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const override;
   void logLikelihoods(std::span<const Pose2> poses, const BeamSet& beams, double* out) const override;
   const VectorMap& map() const override { return caster_.map(); }
+  void setParams(const SensorParams& params) override;
 
   /// The modes for a pane hit `hit` by the ray origin + s dir (casts the mirrored and continued rays).
   GlassModes modes(const Vec2& origin, const Vec2& dir, const RayHit& hit, double max_range) const;
 
  private:
   double probability(const Vec2& origin, const Vec2& dir, double z, double max_range) const;
+  // The pieces modes() and probability() are made of, shared by the one-ray path and the batch
+  // path (glass_batch.cpp, which casts the rays of many beams together with RayCaster::castBatch).
+  /// d_g, theta and the three weights for a pane hit (hit.incidence set); e_* left +inf.
+  GlassModes weights(const RayHit& hit) const;
+  /// Direction of the ray `dir` mirrored at segment `pane`.
+  Vec2 mirrored(std::int32_t pane, const Vec2& dir) const;
+  /// The ray continued through panes: where its next cast starts, distance and offset so far.
+  struct Transmitted {
+    Vec2 o;
+    double travelled, offset;
+    std::int32_t skip;
+    int k;  ///< number of the next cast, 1..max_panes
+  };
+  Transmitted transmitted(const GlassModes& m, const RayHit& hit, const Vec2& p, const Vec2& dir) const;
+  /// Range elongation [m] of the ray along `dir` through pane `pane` (or the fixed offset).
+  double elongation(std::int32_t pane, const Vec2& dir) const;
+  /// Takes the transmitted ray's cast `next` (range, segment, material) along `dir`; true when the
+  /// ray goes on through another pane (t updated), false when it ends (e_refract set if it met a
+  /// wall or its last pane, left +inf if it met nothing).
+  bool goesOn(Transmitted& t, const RayHit& next, const Vec2& dir, double& e_refract) const;
+  /// p(z) of a beam whose first surface is a pane, from its modes (short_numerator: Mixture::shortNumerator(z)).
+  double fromModes(const GlassModes& m, double z, double max_range) const;
+  double fromModes(const GlassModes& m, double z, double max_range, double short_numerator) const;
+
   RayCaster caster_;
-  SensorParams params_;
   Mixture mix_;
   Variant variant_;
 };

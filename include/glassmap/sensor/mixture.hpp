@@ -24,12 +24,20 @@ struct Mixture {
   /// Unnormalised Gaussian N(z; e, sigma) [1/m] (the paper's form).
   double gauss(double z, double e) const;
   /// Short-reading density at z [1/m] for a first surface at e (truncated exponential on [0, e)).
-  double shortDensity(double z, double e, double z_max) const;
+  double shortDensity(double z, double e, double z_max) const { return shortDensity(z, e, z_max, shortNumerator(z)); }
+  /// Its numerator lambda exp(-lambda z), which depends on the reading only (a caller weighing many
+  /// poses against one scan computes it once per beam), and the density from it.
+  double shortNumerator(double z) const { return lambda_short * std::exp(-lambda_short * z); }
+  double shortDensity(double z, double e, double z_max, double numerator) const;
   /// Uniform density 1 / z_max [1/m].
   static double randDensity(double z_max) { return 1.0 / z_max; }
   /// p(z) for one expected range e (+inf or >= z_max: no surface); z >= z_max is a max reading
   /// and returns its probability mass.
-  double probability(double z, double e, double z_max) const;
+  double probability(double z, double e, double z_max) const {
+    return probability(z, e, z_max, z < z_max ? shortNumerator(z) : 0.0);
+  }
+  /// The same with shortNumerator(z) given.
+  double probability(double z, double e, double z_max, double short_numerator) const;
 };
 
 /// Sum of log p_i over beams for a per-beam probability function: multiplies blocks of 8 before

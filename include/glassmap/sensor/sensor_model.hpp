@@ -88,6 +88,16 @@ class SensorModel {
   double beamLogLikelihood(const Pose2& T_map_laser, double angle, double z, double max_range) const;
   /// The map the model was built on.
   virtual const VectorMap& map() const = 0;
+  /// The parameters in use.
+  const SensorParams& params() const { return params_; }
+  /// Replaces the parameters that do not depend on the map (noise, mixture weights, glass lobe and
+  /// reflection, refraction): what a calibration against the data changes. What shaped the model's
+  /// map at construction stays (glass_as, the likelihood field's grid resolution and reach).
+  virtual void setParams(const SensorParams& params) = 0;
+
+ protected:
+  explicit SensorModel(const SensorParams& params) : params_(params) {}
+  SensorParams params_;
 };
 
 /// Model names accepted by makeSensorModel.

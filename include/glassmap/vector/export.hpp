@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "glassmap/geometry/vector_map.hpp"
+#include "glassmap/io/floorplan_extras.hpp"
 #include "glassmap/io/labels_raster.hpp"
 #include "glassmap/vector/label_grid.hpp"
 
@@ -21,14 +22,18 @@ const std::vector<std::string>& defaultFloorplanSet();
 /// True if the path's extension (case-insensitive) is one of exportFormats().
 bool isExportFormat(const std::filesystem::path& path);
 
-/// Writes the map in the format of the path's extension, atomically. Throws Error for others.
-void exportFloorplan(const std::filesystem::path& path, const VectorMap& map);
+/// Writes the map in the format of the path's extension, atomically, with the extra layers where
+/// the format holds them (GPKG, GeoJSON, DXF; pictures draw clutter and doors too) and in the
+/// building's CRS when `georef` is given. Throws Error for other extensions.
+void exportFloorplan(const std::filesystem::path& path, const VectorMap& map, const FloorplanExtras& extras = {},
+                     const FloorplanGeoref* georef = nullptr);
 
 /// Writes <stem>.<ext> for every extension, in order; returns the paths written.
 /// pipeline::writeMapFiles calls writeFloorplanSet(dir / "floorplan", result.floorplan.map).
-std::vector<std::filesystem::path> writeFloorplanSet(
-    const std::filesystem::path& stem, const VectorMap& map,
-    const std::vector<std::string>& extensions = defaultFloorplanSet());
+std::vector<std::filesystem::path> writeFloorplanSet(const std::filesystem::path& stem, const VectorMap& map,
+                                                     const std::vector<std::string>& extensions = defaultFloorplanSet(),
+                                                     const FloorplanExtras& extras = {},
+                                                     const FloorplanGeoref* georef = nullptr);
 
 /// The label grid of a raster read by io's readLabelRaster (5-degree glass bins, no evidence).
 LabelGrid toLabelGrid(const LabelRaster& raster);

@@ -13,6 +13,7 @@
 #include <cstddef>
 
 #include "glassmap/geometry/vector_map.hpp"
+#include "glassmap/io/floorplan_extras.hpp"
 #include "glassmap/vector/label_grid.hpp"
 
 namespace glassmap::vector {
@@ -33,6 +34,33 @@ struct MaterialOptions {
   double merge_angle_deg = 6.0;      ///< collinear pieces: direction difference [deg]
   double merge_offset = 0.10;        ///< collinear pieces: endpoint offset from the other's line [m]
   double thickness = 0.10;           ///< thickness written for a segment that has no measured one [m]
+};
+
+/// Structure versus clutter: the building's walls apart from furniture, long walls continued
+/// through what hid them, openings kept (see structure.hpp in src/vector for the steps).
+/// Costs are in nats of description length, against one segment's 2 * 0.5 ln(N) (N wall cells).
+struct StructureOptions {
+  bool enabled = true;                    ///< false: the plain fit (every face a wall, one or two axes)
+  double peak_share = 0.04;               ///< a wall direction holds at least this share of the wall length [-]
+  double direction_separation_deg = 10;   ///< directions closer than this are one [deg]
+  double snap_max_deg = 8.0;              ///< a piece snaps to a direction within atan(2 cells / length),
+                                          ///< at least 2 and at most this [deg]
+  double line_tolerance = 0.10;           ///< pieces of one direction whose offsets differ by less share a line [m]
+  double free_cost = 3.0;                 ///< bridging: per cell of gap seen free (a passage) [nats]
+  double unseen_cost = 0.5;               ///< ... per cell never seen with no room near (unexplored, solid) [nats]
+  double occluded_cost = 0.05;            ///< ... per cell hidden behind clutter, the room within reach [nats]
+  double hit_gain = 0.5;                  ///< ... gain per cell where the line was hit [nats]
+  double occlusion_depth = 1.5;           ///< a gap is hidden by clutter when free space lies this close [m]
+  double door_min = 0.6, door_max = 2.2;  ///< a gap seen free this wide, with free space both sides, is a door [m]
+  double min_line_support = 2.0;          ///< a line whose pieces sum to less is clutter (unless it joins walls) [m]
+  double off_direction_min_length =
+      2.5;                            ///< off every direction, shorter pieces are clutter (unless they join walls) [m]
+  double shadow_depth = 1.2;          ///< a short line this close in front of a longer parallel wall ... [m]
+  double max_furniture_length = 3.0;  ///< ... and shorter than this is furniture standing against it [m]
+  double furniture_depth = 2.5;       ///< a one-sided piece with free space again this close behind it (deeper than a
+                                      ///< wall is thick) is an object one walks around (a desk, a pillar) [m]
+  double min_room_area = 1.5;  ///< free space enclosed in less is the inside of an object drawn as an outline, not a
+                               ///< room [m^2]
 };
 
 /// Everything vectorize() needs. Defaults suit 5 cm grids.
@@ -64,15 +92,15 @@ struct VectorizeOptions {
   double glass_log10_false_alarms = -2.0;
   bool glass_segments = true;         ///< fit glass
   // Finer rules of the steps (defaults suit any cell size; units as stated).
-  std::size_t min_region_cells = 3;           ///< region growing: smaller regions are left unassigned [cells]
-  double short_glass_sd_cells = 3.0;          ///< a glass piece whose cells spread along it by less than this
-                                              ///< (std dev, about 10 cells of length) takes its direction from
-                                              ///< the angle labels, not the fit [cells]
-  double end_margin_cells = 0.5;              ///< a piece reaches this far past its outermost cell centres [cells]
-  double max_unseen_free_fraction = 0.2;      ///< a gap counts as unseen (bridgeable up to max_bridge) when
-                                              ///< at most this share of it was seen free [-]
-  double face_min_overlap = 0.5;              ///< wall faces merge when they overlap over this share of the
-                                              ///< shorter one [-] ...
+  std::size_t min_region_cells = 3;       ///< region growing: smaller regions are left unassigned [cells]
+  double short_glass_sd_cells = 3.0;      ///< a glass piece whose cells spread along it by less than this
+                                          ///< (std dev, about 10 cells of length) takes its direction from
+                                          ///< the angle labels, not the fit [cells]
+  double end_margin_cells = 0.5;          ///< a piece reaches this far past its outermost cell centres [cells]
+  double max_unseen_free_fraction = 0.2;  ///< a gap counts as unseen (bridgeable up to max_bridge) when
+                                          ///< at most this share of it was seen free [-]
+  double face_min_overlap = 0.5;          ///< wall faces merge when they overlap over this share of the
+      ///< longer one (a short parallel piece is furniture against the wall, not its other face) [-] ...
   double face_max_free_fraction = 1.0 / 3.0;  ///< ... and at most this share of the band between
                                               ///< them is free space [-]
   double side_crowding_cells = 1.0;           ///< glass: look this far past the pane's band (voting: twice
@@ -84,6 +112,7 @@ struct VectorizeOptions {
   double corner_min_angle_deg = 30.0;         ///< ends snap only to walls crossing at least this steeply [deg]
   double one_sided_max_ratio = 0.25;          ///< a wall is one-sided when its less free side has at most this
                                               ///< share of its freer side's free samples [-]
+  StructureOptions structure;                 ///< building versus clutter, doors
 
   static MaterialOptions glassDefaults();
   static MaterialOptions wallDefaults();
@@ -101,12 +130,17 @@ struct VectorizeStats {
   std::size_t corners = 0;                      ///< segment ends moved to close a corner or T
   std::size_t dropped = 0;                      ///< pieces dropped (too short, too few cells, blob)
   double dominant_axis_deg = 0.0;               ///< the floor's dominant wall direction in [0, 90) [deg]
+  std::vector<double> directions_deg;           ///< structure: the wall directions found in [0, 180) [deg]
+  std::size_t lines = 0;                        ///< structure: wall lines (pieces grouped by direction and offset)
+  std::size_t bridged = 0;                      ///< structure: gaps along a line claimed as wall
+  std::size_t openings = 0;                     ///< structure: gaps kept open (doors among them)
   double seconds = 0.0;                         ///< wall-clock time [s]
 };
 
 /// The floorplan and how it was obtained.
 struct VectorizeResult {
-  VectorMap map;  ///< glass segments first, then walls; attributes filled
+  VectorMap map;           ///< glass segments first, then walls; attributes filled
+  FloorplanExtras extras;  ///< clutter, doors, rooms (with structure enabled)
   VectorizeStats stats;
 };
 

@@ -1,0 +1,48 @@
+#pragma once
+/// Internal: the view of a RayCaster's index that the SIMD batch kernels read, and the kernels.
+/// Each kernel is compiled in its own source file with its instruction set (ray_batch_avx2.cpp,
+/// ray_batch_avx512.cpp); ray_batch.cpp picks one at run time.
+
+#include <cstddef>
+#include <cstdint>
+
+namespace glassmap::detail {
+
+/// The grid as the kernels see it. The cell spans are padded with one ring of border cells
+/// (width nx + 2) whose span is negative: a walk that steps onto one has left the grid.
+struct PacketGrid {
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< grid box [m]
+  double cell = 1, inv_cell = 1;          ///< cell size [m] and its inverse [1/m]
+  int nx = 0, ny = 0;                     ///< cells inside the border
+  const std::int64_t* spans = nullptr;    ///< padded cell -> start | end << 32 into segs, or -1
+  const double* segs = nullptr;           ///< all cell lists (ax, ay, dx, dy per entry, 32-byte aligned)
+  const std::int32_t* ids = nullptr;      ///< segment id of each entry of segs
+};
+
+/// Rays as structure of arrays; the kernels write out_t[i] (the hit's range, +inf for no hit) and,
+/// when out_id is not null, out_id[i] (segment id, -1 for no hit), bit for bit as RayCaster::walk.
+struct PacketRays {
+  const double *ox = nullptr, *oy = nullptr, *ux = nullptr, *uy = nullptr;
+  const double* max_range = nullptr;  ///< per ray, or null: `range` for all
+  double range = 0;
+  const std::int32_t* skip = nullptr;  ///< per ray, or null: none
+  std::size_t n = 0;
+};
+
+/// castGroups' inner loop (ray_coherent.cpp): segment (ax, ay) + v (dx, dy), id seg_id, against
+/// rays [0, n) (n a multiple of the lanes: 4 or 8), updating best[k] / id[k] (nearest, ties to the
+/// lower id) with the walk's hit test.
+using TestSegmentFn = void (*)(double* best, std::int64_t* id, const double* ox, const double* oy, const double* ux,
+                               const double* uy, const std::int64_t* skip, std::size_t n, double ax, double ay,
+                               double dx, double dy, std::int64_t seg_id);
+void testSegmentAvx2(double* best, std::int64_t* id, const double* ox, const double* oy, const double* ux,
+                     const double* uy, const std::int64_t* skip, std::size_t n, double ax, double ay, double dx, double dy,
+                     std::int64_t seg_id);
+void testSegmentAvx512(double* best, std::int64_t* id, const double* ox, const double* oy, const double* ux,
+                       const double* uy, const std::int64_t* skip, std::size_t n, double ax, double ay, double dx,
+                       double dy, std::int64_t seg_id);
+
+void castPacketsAvx2(const PacketGrid& grid, const PacketRays& rays, double* out_t, std::int32_t* out_id);
+void castPacketsAvx512(const PacketGrid& grid, const PacketRays& rays, double* out_t, std::int32_t* out_id);
+
+}  // namespace glassmap::detail

@@ -1,0 +1,248 @@
+// RayCaster::castGroups: coherent groups of rays (one beam from many nearby particles) share one
+// sweep of the grid instead of walking it ray by ray.
+//
+// A group's rays start within a disc of radius r around their mean origin c and point within a
+// cone of half-angle a around their mean direction u. A point of ray i at parameter t lies at
+// axial distance (p - c) . u <= r + t and lateral distance |(p - c) . n| <= r + (x + r) tan a from
+// the axis, x being its axial distance. The sweep visits the grid cells of that wedge slab by
+// slab (one cell thick) in increasing axial distance, each cell once, and tests every segment
+// listed there against the group's undecided rays with the walk's hit test. After the slab that
+// ends at x, every segment a ray could hit at t <= x - r has been tested (its hit point lies in a
+// visited cell, whose list holds it), so a ray whose best hit (or max range) is within x - r is
+// decided: the nearest hit over a superset of the segments it can meet, ties to the lower id,
+// which is what the walk and the brute force return.
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "glassmap/geometry/ray_caster.hpp"
+#include "ray_batch.hpp"
+
+namespace glassmap {
+namespace {
+
+constexpr double kSlack = 1e-12;                 // as ray_caster.cpp: segments lengthened by 1e-12
+constexpr double kMinCos = 0.93969262078590838;  // cos 20 deg: wider groups walk ray by ray
+constexpr double kMargin = 1e-7;                 // [m] widens the swept wedge against rounding
+
+double acceptLimit(double max_range) {  // as ray_caster.cpp
+  const double m = std::min(max_range, std::numeric_limits<double>::max());
+  if (m > 0.0) return std::bit_cast<double>(std::bit_cast<std::uint64_t>(m) + 1);
+  return std::nextafter(m, std::numeric_limits<double>::infinity());
+}
+
+// One group's rays, structure of arrays (a decided ray's slot is cleared: it takes no more hits).
+struct Group {
+  std::vector<double> ox, oy, ux, uy, best, max_range;
+  std::vector<std::int64_t> skip, id;
+  std::vector<std::size_t> ray;
+  std::vector<std::uint32_t> pending;  // undecided rays [0, live)
+  std::vector<std::uint32_t> visited;  // per padded cell: the stamp of the last group that swept it
+  std::vector<std::uint32_t> tested;   // per segment: the stamp of the last group tested against it
+  std::uint32_t stamp = 0;
+  void resize(std::size_t n) {
+    for (auto* v : {&ox, &oy, &ux, &uy, &best, &max_range}) v->resize(n);
+    skip.resize(n);
+    id.resize(n);
+    ray.resize(n);
+  }
+  // Slot k holds no ray: its tests never improve it (best = -inf).
+  void clear(std::size_t k) {
+    ox[k] = oy[k] = uy[k] = 0.0;
+    ux[k] = 1.0;
+    best[k] = -std::numeric_limits<double>::infinity();
+    skip[k] = id[k] = -1;
+  }
+};
+
+// Segment a + v d (id seg_id) against rays [0, n): the walk's hitParams, then the nearest hit, ties
+// to the lower segment id (the scalar fallback of the SIMD kernels' testSegmentLanes).
+void testSegmentScalar(double* __restrict best, std::int64_t* __restrict id, const double* __restrict ox,
+                       const double* __restrict oy, const double* __restrict ux, const double* __restrict uy,
+                       const std::int64_t* __restrict skip, std::size_t n, double ax, double ay, double dx, double dy,
+                       std::int64_t seg_id) {
+  for (std::size_t k = 0; k < n; ++k) {
+    const double wx = ax - ox[k], wy = ay - oy[k];
+    const double inv = 1.0 / (ux[k] * dy - uy[k] * dx);
+    const double t = (wx * dy - wy * dx) * inv;
+    const double v = (wx * uy[k] - wy * ux[k]) * inv;
+    const double q = v * (1.0 - v);
+    const bool hit = (q >= -kSlack) & (t > 0.0) & (skip[k] != seg_id);
+    const bool better = hit & ((t < best[k]) | ((t == best[k]) & (seg_id < id[k])));
+    best[k] = better ? t : best[k];
+    id[k] = better ? seg_id : id[k];
+  }
+}
+
+}  // namespace
+
+void RayCaster::castGroups(const RayBatch& rays, const std::size_t* group_end, std::size_t groups, double* range,
+                           std::int32_t* segment) const {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  thread_local Group g;
+  if (g.visited.size() != spans_.size() || g.tested.size() != segs_.size()) {
+    g.visited.assign(spans_.size(), 0);
+    g.tested.assign(segs_.size(), 0);
+    g.stamp = 0;
+  }
+  const std::size_t pw = static_cast<std::size_t>(nx_) + 2;
+  // The inner loop on the CPU's widest lanes; groups are padded to a multiple of them.
+  detail::TestSegmentFn test = testSegmentScalar;
+  std::size_t lanes = 1;
+#if defined(GLASSMAP_RAY_SIMD)
+  if (bestIsa() == RayIsa::Avx512) {
+    test = detail::testSegmentAvx512;
+    lanes = 8;
+  } else if (bestIsa() == RayIsa::Avx2) {
+    test = detail::testSegmentAvx2;
+    lanes = 4;
+  }
+#endif
+  std::size_t begin = 0;
+  for (std::size_t gi = 0; gi < groups; ++gi) {
+    const std::size_t end = group_end[gi], n = end - begin;
+    const std::size_t first = begin;
+    begin = end;
+    if (n == 0) continue;
+    auto walkEach = [&] {  // not a coherent group: one ray at a time, SIMD lanes
+      RayBatch sub = rays;
+      sub.ox += first;
+      sub.oy += first;
+      sub.ux += first;
+      sub.uy += first;
+      if (sub.max_range) sub.max_range += first;
+      if (sub.skip) sub.skip += first;
+      sub.size = n;
+      castBatch(sub, range + first, segment ? segment + first : nullptr);
+    };
+    if (nx_ == 0 || n < 4) {
+      walkEach();
+      continue;
+    }
+    // The group's disc and cone; anything unusual walks ray by ray.
+    const std::size_t padded = (n + lanes - 1) / lanes * lanes;
+    g.resize(padded);
+    for (std::size_t k = n; k < padded; ++k) g.clear(k);
+    double sx = 0, sy = 0, su = 0, sv = 0, max_range = 0;
+    bool ok = true;
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = first + k;
+      const double x = rays.ox[i], y = rays.oy[i], ux = rays.ux[i], uy = rays.uy[i];
+      const double m = rays.max_range ? rays.max_range[i] : rays.range;
+      const double norm2 = ux * ux + uy * uy, sum = x + y + ux + uy;
+      ok &= ((sum - sum) == 0.0) & (m > 0.0) & (norm2 > 1.0 - 1e-9) & (norm2 < 1.0 + 1e-9) & (x >= origin_.x()) &
+            (x <= top_.x()) & (y >= origin_.y()) & (y <= top_.y());  // finite, a unit direction, inside the grid
+      g.ox[k] = x;
+      g.oy[k] = y;
+      g.ux[k] = ux;
+      g.uy[k] = uy;
+      g.max_range[k] = m;
+      g.best[k] = acceptLimit(m);
+      g.id[k] = -1;
+      g.skip[k] = rays.skip ? rays.skip[i] : -1;
+      g.ray[k] = i;
+      sx += x;
+      sy += y;
+      su += ux;
+      sv += uy;
+      max_range = std::max(max_range, std::min(m, 1e300));
+    }
+    const double dir_norm = std::hypot(su, sv);
+    if (!ok || !(dir_norm > 0.5 * static_cast<double>(n))) {
+      walkEach();
+      continue;
+    }
+    const double cx = sx / static_cast<double>(n), cy = sy / static_cast<double>(n);
+    const double ux = su / dir_norm, uy = sv / dir_norm, nxv = -uy, nyv = ux;
+    double cos_a = 1.0, radius2 = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+      cos_a = std::min(cos_a, g.ux[k] * ux + g.uy[k] * uy);
+      const double ex = g.ox[k] - cx, ey = g.oy[k] - cy;
+      radius2 = std::max(radius2, ex * ex + ey * ey);
+    }
+    double radius = std::sqrt(radius2) * (1.0 + 1e-12);
+    if (!(cos_a >= kMinCos)) {
+      walkEach();
+      continue;
+    }
+    const double tan_a = std::sqrt(std::max(0.0, 1.0 - cos_a * cos_a)) / cos_a + 1e-9;
+    radius += kMargin;
+    // The sweep ends where every ray's max range is passed, or beyond the grid's far corner.
+    double grid_end = -kInf;
+    for (const double gx : {origin_.x(), top_.x()})
+      for (const double gy : {origin_.y(), top_.y()}) grid_end = std::max(grid_end, (gx - cx) * ux + (gy - cy) * uy);
+    const double sweep_end = std::min(max_range + radius, grid_end + kMargin);
+    if (++g.stamp == 0) {
+      std::fill(g.visited.begin(), g.visited.end(), 0);
+      std::fill(g.tested.begin(), g.tested.end(), 0);
+      g.stamp = 1;
+    }
+    std::size_t live = n;
+    g.pending.resize(n);
+    for (std::size_t k = 0; k < n; ++k) g.pending[k] = static_cast<std::uint32_t>(k);
+    auto decide = [&](std::size_t k) {  // writes ray k's result; its slot then takes no more hits
+      const std::size_t i = g.ray[k];
+      const bool hit = g.id[k] >= 0;
+      range[i] = hit ? g.best[k] : kInf;
+      if (segment) segment[i] = hit ? static_cast<std::int32_t>(g.id[k]) : -1;
+      g.clear(k);
+      --live;
+    };
+    for (double a0 = -radius; live > 0 && a0 < sweep_end;) {
+      const double a1 = a0 + cell_;
+      const double w = radius + (a1 + radius) * tan_a + kMargin;
+      double xmin = kInf, xmax = -kInf, ymin = kInf, ymax = -kInf;
+      for (const double a : {a0 - kMargin, a1 + kMargin})
+        for (const double l : {-w, w}) {
+          const double px = cx + a * ux + l * nxv, py = cy + a * uy + l * nyv;
+          xmin = std::min(xmin, px);
+          xmax = std::max(xmax, px);
+          ymin = std::min(ymin, py);
+          ymax = std::max(ymax, py);
+        }
+      const double fx0 = std::floor((xmin - origin_.x()) * inv_cell_),
+                   fx1 = std::floor((xmax - origin_.x()) * inv_cell_);
+      const double fy0 = std::floor((ymin - origin_.y()) * inv_cell_),
+                   fy1 = std::floor((ymax - origin_.y()) * inv_cell_);
+      if (fx1 >= 0 && fy1 >= 0 && fx0 < nx_ && fy0 < ny_) {
+        const int ix0 = static_cast<int>(std::max(fx0, 0.0)), ix1 = static_cast<int>(std::min(fx1, nx_ - 1.0));
+        const int iy0 = static_cast<int>(std::max(fy0, 0.0)), iy1 = static_cast<int>(std::min(fy1, ny_ - 1.0));
+        for (int iy = iy0; iy <= iy1; ++iy) {
+          for (int ix = ix0; ix <= ix1; ++ix) {
+            const std::size_t c = static_cast<std::size_t>(iy + 1) * pw + static_cast<std::size_t>(ix + 1);
+            if (g.visited[c] == g.stamp) continue;
+            g.visited[c] = g.stamp;
+            const std::int64_t span = spans_[c];
+            const auto e1 = static_cast<std::size_t>(span >> 32);
+            for (auto e = static_cast<std::size_t>(span & 0xffffffff); e < e1; ++e) {
+              // A segment listed in several cells of the wedge is tested once: every ray still
+              // undecided then got its hit on it, wherever along the ray that lies.
+              std::uint32_t& seen = g.tested[static_cast<std::size_t>(flat_ids_[e])];
+              if (seen == g.stamp) continue;
+              seen = g.stamp;
+              const Seg4& s = flat_[e];
+              test(g.best.data(), g.id.data(), g.ox.data(), g.oy.data(), g.ux.data(), g.uy.data(), g.skip.data(),
+                   padded, s.ax, s.ay, s.dx, s.dy, flat_ids_[e]);
+            }
+          }
+        }
+      }
+      a0 = a1;
+      const double reached = a1 - radius - kMargin;  // every ray is settled up to t = reached
+      for (std::size_t l = 0; l < live;) {           // the undecided rays, listed
+        const std::uint32_t k = g.pending[l];
+        if (g.best[k] <= reached || g.max_range[k] <= reached) {
+          decide(k);  // drops it: the list's last entry takes its place
+          g.pending[l] = g.pending[live];
+        } else {
+          ++l;
+        }
+      }
+    }
+    while (live > 0) decide(g.pending[live - 1]);  // the sweep passed the grid or every max range
+  }
+}
+
+}  // namespace glassmap

@@ -1,0 +1,56 @@
+#pragma once
+// Private to vector/: raster tools the structure stage, the room segmentation and the test maps
+// share: connected components, the Euclidean distance transform, a cell walk along a ray, and a
+// platform-independent random source.
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "glassmap/core/pose2.hpp"
+
+namespace glassmap::vector::detail {
+
+/// Connected components of the cells where `in` is true (4- or 8-connected), labelled 0..count-1;
+/// cells outside the set hold -1. `sizes[k]` counts the cells of component k.
+struct Components {
+  std::vector<std::int32_t> label;
+  std::vector<std::size_t> sizes;
+  std::size_t count() const { return sizes.size(); }
+};
+Components connectedComponents(int width, int height, const std::vector<std::uint8_t>& in, bool eight = false);
+
+/// Exact Euclidean distance transform (Felzenszwalb & Huttenlocher 2012): for every cell the
+/// distance [cells] to the nearest cell where `source` is true; +inf when there is none.
+std::vector<float> distanceTransform(int width, int height, const std::vector<std::uint8_t>& source);
+
+/// Visits the cells a segment from p to q crosses (grid coordinates in cells, the grid's lower-left
+/// corner at 0), in order, stopping when `visit(x, y)` returns false or the walk leaves the grid.
+/// Amanatides–Woo. The cell containing q is visited last.
+void walkCells(const Vec2& p, const Vec2& q, int width, int height, const std::function<bool(int, int)>& visit);
+
+/// SplitMix64: the same numbers on every platform (std distributions are not).
+class SplitMix {
+ public:
+  explicit SplitMix(std::uint64_t seed) : s_(seed) {}
+  std::uint64_t next() {
+    std::uint64_t z = (s_ += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  /// Uniform in [0, 1).
+  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+  /// Standard normal (Box–Muller).
+  double normal() {
+    const double u1 = std::max(uniform(), 1e-300), u2 = uniform();
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * 3.14159265358979323846 * u2);
+  }
+
+ private:
+  std::uint64_t s_;
+};
+
+}  // namespace glassmap::vector::detail

@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""Floorplans from occupancy maps other programs leave: wall F1 against the true structure.
+
+For every test plan (the bundled scenes' true plans, tests/data/vector's non-Manhattan buildings,
+optionally the 100 m bench floor), every map convention (solid, slam, drawn) and every furniture
+setting, `glassmap bench plan-map` draws the test map, `glassmap vectorize` makes the plan, and
+`glassmap eval segments --tol 0.15` scores its WALL layer against the structure (glass as wall;
+the scenes' desk outlines are furniture). Prints a Markdown table and writes CSV/JSON.
+
+  python3 tools/plan_bench.py [--build build] [--out out/plan_bench] [--seeds 1 2] [--big]
+                              [--extra "--no-structure"] [--plans office-floor,pentagon]
+"""
+import argparse
+import csv
+import json
+import os
+import statistics
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PLANS = {
+    "office-floor": "maps/office-floor/floorplan.geojson",
+    "no-glass": "maps/no-glass/floorplan.geojson",
+    "paper-corridor": "maps/paper-corridor/floorplan.geojson",
+    "glass-corridor": "maps/glass-corridor/floorplan.geojson",
+    "pentagon": "tests/data/vector/pentagon.geojson",
+    "angled-office": "tests/data/vector/angled-office.geojson",
+}
+BIG = {"office-100m": "../shared/data/bench/office-100m.geojson"}
+FURNITURE = {"empty": ["--furniture-cover", "0", "--bins", "0", "--no-plan-furniture"],
+             "furnished": []}
+
+
+def run(cmd):
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"failed ({r.returncode}): {' '.join(cmd)}\n{r.stderr}")
+    return r.stdout
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "plan_bench"))
+    ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--conventions", default="solid,slam,drawn")
+    ap.add_argument("--furniture", default="empty,furnished")
+    ap.add_argument("--plans", default=",".join(PLANS))
+    ap.add_argument("--big", action="store_true", help="also the 100 m bench floor (minutes)")
+    ap.add_argument("--extra", default="", help="more options for vectorize, e.g. --no-structure")
+    ap.add_argument("--tol", default="0.15")
+    args = ap.parse_args()
+    exe = os.path.join(args.build, "tools", "glassmap")
+    plans = {k: PLANS[k] for k in args.plans.split(",")}
+    if args.big:
+        plans.update(BIG)
+    os.makedirs(args.out, exist_ok=True)
+    rows = []
+    for name, rel in plans.items():
+        plan = os.path.join(ROOT, rel)
+        if not os.path.exists(plan):
+            print(f"skipping {name}: {plan} missing", file=sys.stderr)
+            continue
+        for conv in args.conventions.split(","):
+            for furn in args.furniture.split(","):
+                for seed in args.seeds:
+                    stem = os.path.join(args.out, f"{name}-{conv}-{furn}-{seed}")
+                    run([exe, "bench", "plan-map", plan, "-o", stem, "--convention", conv, "--seed", str(seed), "-q"]
+                        + FURNITURE[furn])
+                    run([exe, "vectorize", stem + ".yaml", "-o", stem + "-plan", "-q", "--json", stem + "-vec.json"]
+                        + args.extra.split())
+                    run([exe, "eval", "segments", "--truth", stem + "-truth.geojson", "--pred", stem + "-plan.gpkg",
+                         "--tol", args.tol, "-q", "--json", stem + "-eval.json"])
+                    e = json.load(open(stem + "-eval.json"))
+                    v = json.load(open(stem + "-vec.json"))
+                    w = e["wall"]
+                    rows.append({"plan": name, "convention": conv, "furniture": furn, "seed": seed,
+                                 "precision": w["precision"], "recall": w["recall"], "f1": w["f1"],
+                                 "truth_segments": w["truth_segments"], "segments": w["pred_segments"],
+                                 "clutter": v.get("clutter_segments", 0), "doors": v.get("doors", 0),
+                                 "rooms": v.get("rooms", 0)})
+                    r = rows[-1]
+                    print(f"{name:15s} {conv:6s} {furn:10s} {seed}: P {r['precision']:.3f} R {r['recall']:.3f} "
+                          f"F1 {r['f1']:.3f}  {r['segments']}/{r['truth_segments']} segments, "
+                          f"{r['clutter']} clutter, {r['doors']} doors, {r['rooms']} rooms", file=sys.stderr)
+    with open(os.path.join(args.out, "plan_bench.csv"), "w", newline="") as f:
+        wr = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        wr.writeheader()
+        wr.writerows(rows)
+    json.dump(rows, open(os.path.join(args.out, "plan_bench.json"), "w"), indent=1)
+    # Markdown: mean over seeds per plan x convention x furniture.
+    print(f"| plan | convention | furniture | wall P | wall R | wall F1 (min) | segments / truth | clutter | doors | rooms |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    keys = []
+    for r in rows:
+        k = (r["plan"], r["convention"], r["furniture"])
+        if k not in keys:
+            keys.append(k)
+    f1s = []
+    for k in keys:
+        g = [r for r in rows if (r["plan"], r["convention"], r["furniture"]) == k]
+        m = lambda f: statistics.mean(r[f] for r in g)
+        f1s += [r["f1"] for r in g]
+        print(f"| {k[0]} | {k[1]} | {k[2]} | {m('precision'):.3f} | {m('recall'):.3f} | "
+              f"**{m('f1'):.3f}** ({min(r['f1'] for r in g):.3f}) | {m('segments'):.0f} / {g[0]['truth_segments']} | "
+              f"{m('clutter'):.0f} | {m('doors'):.0f} | {m('rooms'):.0f} |")
+    print(f"\n{len(f1s)} maps: wall F1 median {statistics.median(f1s):.3f}, min {min(f1s):.3f}, "
+          f"{sum(f >= 0.9 for f in f1s)} at 0.9 or more")
+
+
+if __name__ == "__main__":
+    main()
