@@ -94,6 +94,7 @@ def truth_profile(meta, path):
     with open(path, "w") as f:
         f.write("source: simulated truth\n")
         f.write(f"range_sigma_m: {max(laser['range_sigma'], 1e-4)}\n")
+        f.write(f"range_sigma_rel: {laser.get('range_sigma_rel', 0.0)}\n")
         f.write(f"direct_peak: {glass['direct_peak']}\n")
         f.write(f"direct_sigma_deg: {glass['direct_sigma_deg']}\n")
         f.write(f"direct_floor: {glass.get('direct_floor', 0.0)}\n")
@@ -133,6 +134,7 @@ def one_case(gm, profile, scene, a):
             p = stats["sensor"]
             row["calibration"] = {
                 "range_sigma_m": [p["range_sigma_m"], laser["range_sigma"]],
+                "range_sigma_rel": [p.get("range_sigma_rel", 0.0), laser.get("range_sigma_rel", 0.0)],
                 "direct_sigma_deg": [p["direct_sigma_deg"], glass["direct_sigma_deg"]],
                 "direct_peak": [p["direct_peak"], glass["direct_peak"]],
                 "direct_floor": [p["direct_floor"], glass.get("direct_floor", 0.0)],
@@ -192,17 +194,18 @@ def print_tables(rows, modes):
     cal = [r for r in rows if "calibration" in r]
     if not cal:
         return
-    print("\n| laser | scene | range sigma fitted / true [m] | lobe sigma fitted / true [deg] | peak fitted / true "
-          "| floor fitted / true |")
-    print("| --- | --- | --- | --- | --- | --- |")
+    print("\n| laser | scene | range sigma fitted / true [m] | growth with range fitted / true [%] "
+          "| lobe sigma fitted / true [deg] | peak fitted / true | floor fitted / true |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
     for r in cal:
         c = r["calibration"]
         lobe = "not fitted" if "direct_sigma_deg" not in c["fitted"] else \
             f"{c['direct_sigma_deg'][0]:.1f} / {c['direct_sigma_deg'][1]:.1f}"
         peak = "" if "direct_peak" not in c["fitted"] else f"{c['direct_peak'][0]:.2f} / {c['direct_peak'][1]:.2f}"
         floor = "" if "direct_floor" not in c["fitted"] else f"{c['direct_floor'][0]:.3f} / {c['direct_floor'][1]:.3f}"
+        rel = c.get("range_sigma_rel", [0.0, 0.0])
         print(f"| {r['profile']} | {r['scene']} | {c['range_sigma_m'][0]:.4f} / {c['range_sigma_m'][1]:.4f} | "
-              f"{lobe} | {peak} | {floor} |")
+              f"{100 * rel[0]:.2f} / {100 * rel[1]:.2f} | {lobe} | {peak} | {floor} |")
 
 
 if __name__ == "__main__":
