@@ -87,8 +87,12 @@ std::vector<int32_t> psiDirectionTables(PsiKind kind, int num_glass_bins) {
       const double f = w.pane_isotropic + (1.0 - w.pane_isotropic) * c * c;
       set(a, kEmpty, w.glass_empty * f);
       set(a, kOccupied, w.glass_empty * f);
-      for (int b = kFirstGlass; b < n; ++b)
-        if (a != b) set(a, b, w.glass_glass);
+      for (int b = kFirstGlass; b < n; ++b) {
+        if (a == b) continue;
+        const double d = std::abs(a - b) * kPi / num_glass_bins;
+        const double apart = std::min(d, kPi - d);  // normals are directions mod 180 deg
+        set(a, b, w.glass_glass * std::min(1.0, apart / deg2rad(w.pane_angle_full_deg)));
+      }
     }
   }
   return tables;

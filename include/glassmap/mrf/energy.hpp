@@ -67,6 +67,10 @@ struct PsiWeights {
   /// cos^2 of the angle between the edge and the pane, so empty space across a pane (what glass
   /// looks like) costs nothing and only a pane's ends and gaps pay [-].
   double pane_isotropic = 0.0;
+  /// Pane Psi: glass labels whose normals differ by d cost glass_glass * min(1, d / this) (a
+  /// truncated linear, hence metric, cost), so neighbours of one pane whose normal estimates fall
+  /// into adjacent bins (a wide lobe spreads them) are not charged as two panes meeting [deg].
+  double pane_angle_full_deg = 30.0;
 };
 
 /// Psi over {EMP, OCC, GLS_0..GLS_{bins-1}} from weights; symmetric, zero diagonal.
@@ -85,7 +89,7 @@ std::vector<int32_t> paperPsi(int num_glass_bins, double w_diff = 3.0, double w_
 /// 90 deg from it). Glass next to empty or occupied costs w (0.5 + 0.5 cos^2 a), a the angle
 /// between the edge and the pane direction: half where empty space lies across the pane (what
 /// glass looks like), the full w where the pane would go on (a gap or an end). Glass labels of
-/// different angle: 3, as the paper. The default of glassmap map: on a SICK LMS200-like laser it
+/// different angle: 3 from 30 deg apart, less below (pane_angle_full_deg). The default of glassmap map: on a SICK LMS200-like laser it
 /// keeps office-floor's sparsely hit panes that the closed table broke up (glass cell F1@2 0.51 ->
 /// 0.70) and draws no glass on a glass-free floor. Not storable in the instance file.
 enum class PsiKind { Paper, Closed, Neutral, Pane };
