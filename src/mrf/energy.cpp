@@ -68,10 +68,9 @@ double edgeClassAngle(int cls) {
   return kAngles[cls & 3];
 }
 
-std::vector<int32_t> psiDirectionTables(PsiKind kind, int num_glass_bins) {
+std::vector<int32_t> psiDirectionTables(PsiKind kind, int num_glass_bins, const PsiWeights& w) {
   if (kind != PsiKind::Pane) return {};
   if (num_glass_bins < 1) throw Error("need at least one glass bin", {}, 0, "num_glass_bins");
-  const PsiWeights w;
   const int n = kFirstGlass + num_glass_bins;
   const std::size_t nn = static_cast<std::size_t>(n) * n;
   std::vector<int32_t> tables(4 * nn, 0);
@@ -91,21 +90,21 @@ std::vector<int32_t> psiDirectionTables(PsiKind kind, int num_glass_bins) {
         if (a == b) continue;
         const double d = std::abs(a - b) * kPi / num_glass_bins;
         const double apart = std::min(d, kPi - d);  // normals are directions mod 180 deg
-        set(a, b, w.glass_glass * std::min(1.0, apart / deg2rad(w.pane_angle_full_deg)));
+        set(a, b, w.glass_glass * std::min(1.0, apart / deg2rad(std::max(w.pane_angle_full_deg, 1e-9))));
       }
     }
   }
   return tables;
 }
 
-std::vector<int32_t> psiTable(PsiKind kind, int num_glass_bins) {
+std::vector<int32_t> psiTable(PsiKind kind, int num_glass_bins, const PsiWeights& pane_weights) {
   PsiWeights w;
   switch (kind) {
     case PsiKind::Paper: return paperPsi(num_glass_bins);
     case PsiKind::Closed: w.glass_occ = w.glass_empty; break;
     case PsiKind::Neutral: w.empty_occ = w.glass_empty; break;
     case PsiKind::Pane: {
-      const std::vector<int32_t> dir = psiDirectionTables(kind, num_glass_bins);
+      const std::vector<int32_t> dir = psiDirectionTables(kind, num_glass_bins, pane_weights);
       const std::size_t nn = dir.size() / 4;
       std::vector<int32_t> bound(dir.begin(), dir.begin() + static_cast<std::ptrdiff_t>(nn));
       for (std::size_t cls = 1; cls < 4; ++cls)
@@ -116,9 +115,9 @@ std::vector<int32_t> psiTable(PsiKind kind, int num_glass_bins) {
   return makePsi(num_glass_bins, w);
 }
 
-void setPsi(LabelEnergy& e, PsiKind kind, int num_glass_bins) {
-  e.pairwise = psiTable(kind, num_glass_bins);
-  e.pairwise_dir = psiDirectionTables(kind, num_glass_bins);
+void setPsi(LabelEnergy& e, PsiKind kind, int num_glass_bins, const PsiWeights& pane_weights) {
+  e.pairwise = psiTable(kind, num_glass_bins, pane_weights);
+  e.pairwise_dir = psiDirectionTables(kind, num_glass_bins, pane_weights);
 }
 
 void validate(const LabelEnergy& e) {

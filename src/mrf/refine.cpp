@@ -37,7 +37,9 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
   if (options.tile < 8) throw Error("MRF tile must be at least 8 cells", {}, 0, "tile");
   if (options.unary_weight <= 0) throw Error("unary weight must be positive", {}, 0, "unary_weight");
   LabelEnergy psi_only;
-  setPsi(psi_only, options.psi, ev.bins);
+  PsiWeights pane_weights;
+  pane_weights.pane_angle_full_deg = options.pane_angle_full_deg;
+  setPsi(psi_only, options.psi, ev.bins, pane_weights);
   // Cells no beam ended in (beams only passed through them) and unseen cells may be glass that no
   // beam met near its normal: with unseen_glass_neutral they take an extra fixed label that costs
   // nothing next to glass and acts as EMP next to everything else.

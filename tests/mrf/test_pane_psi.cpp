@@ -33,7 +33,7 @@ struct Pane {
   std::set<std::uint32_t> glass;  // the pane cells that are candidates
 };
 
-Pane pane(double angle_deg, int step, float margin, bool flanked) {
+Pane pane(double angle_deg, int step, float margin, bool flanked, int spread = 0) {
   Pane p;
   glass::CellEvidence& ev = p.ev;
   ev.geometry.width = kSize;
@@ -64,7 +64,10 @@ Pane pane(double angle_deg, int step, float margin, bool flanked) {
   all.insert(flank.begin(), flank.end());
   for (const std::uint32_t c : all) {  // candidates in ascending cell order
     if (p.glass.count(c)) {
-      addCandidate(ev, c, glassLabel(bin), margin, 10.0f);
+      // With `spread`, the normal estimates wander over bin - spread .. bin + spread along the pane
+      // (a wide lobe does that), in a fixed pattern.
+      const int wander = spread == 0 ? 0 : static_cast<int>(c * 7u % static_cast<unsigned>(2 * spread + 1)) - spread;
+      addCandidate(ev, c, glassLabel((bin + wander + 36) % 36), margin, 10.0f);
     } else {
       addCandidate(ev, c, kEmpty, 0.0f, 10.0f);
       for (int l = 0; l < ev.num_labels; ++l)
@@ -109,5 +112,15 @@ TEST(PanePsi, APaneSeenInOneCellOfThreeKeepsItsCells) {
     paper.unseen_glass_neutral = false;
     mrf::refine(ev, paper);
     EXPECT_EQ(ev.countGlass(), 0u) << angle;
+  }
+}
+
+TEST(PanePsi, NormalEstimatesInAdjacentBinsAreOnePane) {
+  for (const double angle : {0.0, 25.0, 65.0}) {
+    EXPECT_GE(recallAfterMrf(pane(angle, 1, 3.0f, true, 1)), 0.95) << angle;
+    // Charging any two glass labels the full 3 breaks the pane into pieces and empties them.
+    mrf::RefineOptions flat;
+    flat.pane_angle_full_deg = 1e-6;
+    EXPECT_LT(recallAfterMrf(pane(angle, 1, 3.0f, true, 1), flat), 0.8) << angle;
   }
 }

@@ -101,14 +101,14 @@ PsiKind parsePsi(const std::string& name);
 
 /// The Psi table of a variant over {EMP, OCC, GLS_0..GLS_{bins-1}} (for Pane: the elementwise
 /// maximum over the edge directions).
-std::vector<int32_t> psiTable(PsiKind kind, int num_glass_bins);
+std::vector<int32_t> psiTable(PsiKind kind, int num_glass_bins, const PsiWeights& pane_weights = {});
 
 /// The per-direction tables of a variant ([cls][a][b], 4 classes); empty for the variants whose
 /// cost does not depend on the edge direction.
-std::vector<int32_t> psiDirectionTables(PsiKind kind, int num_glass_bins);
+std::vector<int32_t> psiDirectionTables(PsiKind kind, int num_glass_bins, const PsiWeights& w = {});
 
 /// Sets e.pairwise (and e.pairwise_dir for a direction-dependent variant).
-void setPsi(LabelEnergy& e, PsiKind kind, int num_glass_bins);
+void setPsi(LabelEnergy& e, PsiKind kind, int num_glass_bins, const PsiWeights& pane_weights = {});
 
 /// Checks sizes and symmetry; throws glassmap::Error naming the field otherwise.
 void validate(const LabelEnergy& e);
