@@ -9,7 +9,8 @@ runs from the first corrected pose. The corrected poses are the truth (ATE over 
 and option set, and a Markdown table; writes OUT/results.json.
 
 Usage: tools/real_loc.py [--glassmap build/tools/glassmap] [--out out/real_loc]
-                         [--variants perfect,drift] [--options "default=;no-inject=--no-inject"] [log ...]
+                         [--variants perfect,drift] [--options "default=;no-inject=--no-inject"] [--check 0.2]
+                         [log ...]
 """
 import argparse
 import gzip
@@ -116,6 +117,8 @@ def main():
     ap.add_argument("--variants", default="perfect,drift,drift+noise,subsampled")
     ap.add_argument("--options", default="default=;no-inject=--no-inject",
                     help="name=extra localize arguments, separated by ';'")
+    ap.add_argument("--check", type=float, default=0.0,
+                    help="exit 1 when some run's ATE RMSE exceeds this [m] or it was lost (a test)")
     ap.add_argument("logs", nargs="*", default=LOGS)
     a = ap.parse_args()
     gm = a.glassmap
@@ -162,6 +165,13 @@ def main():
                 r = next(r for r in results if r["log"] == name and r["odometry"] == v and r["options"] == opt_name)
                 cells.append(f"{r['rmse']:.3f} / {r['max']:.2f}" + (" (lost)" if r["lost"] else ""))
             print(f"| {name} | {opt_name} | " + " | ".join(cells) + " |")
+    if a.check > 0:
+        bad = [r for r in results if r["rmse"] > a.check or r["lost"]]
+        for r in bad:
+            print(f"FAILED: {r['log']} {r['odometry']} {r['options']}: ATE RMSE {r['rmse']:.3f} m, max {r['max']:.2f} m")
+        if bad:
+            raise SystemExit(1)
+        print(f"all {len(results)} runs under {a.check} m and never lost")
 
 
 if __name__ == "__main__":

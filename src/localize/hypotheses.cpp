@@ -94,6 +94,15 @@ std::vector<Mode> modesOf(const Hypothesis& h, double cell, double heading_bin) 
     if (fresh) cells.push_back({ix, iy, it});
     cell_of[i] = at->second;
   }
+  // Cells lighter than a twentieth of the mean are stragglers: they join no mode.
+  std::vector<double> cell_weight(cells.size(), 0.0);
+  double total = 0.0;
+  for (std::size_t i = 0; i < h.particles.size(); ++i) {
+    const double w = std::exp(h.particles[i].log_w);
+    cell_weight[cell_of[i]] += w;
+    total += w;
+  }
+  const double light = 0.05 * total / static_cast<double>(std::max<std::size_t>(cells.size(), 1));
   std::vector<std::size_t> parent(cells.size());
   std::iota(parent.begin(), parent.end(), std::size_t{0});
   auto find = [&](std::size_t a) {
@@ -101,18 +110,20 @@ std::vector<Mode> modesOf(const Hypothesis& h, double cell, double heading_bin) 
     return a;
   };
   for (std::size_t c = 0; c < cells.size(); ++c)
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dt = -1; dt <= 1; ++dt) {
-          const int it = ((cells[c].it + dt) % n_heading + n_heading) % n_heading;
-          const auto f = index.find(key(cells[c].ix + dx, cells[c].iy + dy, it));
-          if (f == index.end()) continue;
-          const std::size_t a = find(c), b = find(f->second);
-          if (a != b) parent[std::max(a, b)] = std::min(a, b);
-        }
+    if (cell_weight[c] >= light)
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dt = -1; dt <= 1; ++dt) {
+            const int it = ((cells[c].it + dt) % n_heading + n_heading) % n_heading;
+            const auto f = index.find(key(cells[c].ix + dx, cells[c].iy + dy, it));
+            if (f == index.end() || cell_weight[f->second] < light) continue;
+            const std::size_t a = find(c), b = find(f->second);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+          }
   std::unordered_map<std::size_t, std::size_t> group;
   std::vector<Mode> modes;
   for (std::size_t i = 0; i < h.particles.size(); ++i) {
+    if (cell_weight[cell_of[i]] < light) continue;
     const auto [at, fresh] = group.try_emplace(find(cell_of[i]), modes.size());
     if (fresh) modes.emplace_back();
     modes[at->second].members.push_back(i);
@@ -164,7 +175,12 @@ bool ParticleFilter::converged() const {
   if (hyps_.empty()) return false;
   const Hypothesis& b = best();
   if (b.broad || b.spread >= opt_.converged_spread) return false;
-  if (-std::expm1(b.log_mass) >= opt_.converged_doubt) return false;
+  // The rival places hold the doubt; a probe still spread over the floor is a search, not a rival
+  // (after a global start, the one broad hypothesis that is not a probe is the search itself).
+  double rivals = 0.0;
+  for (const Hypothesis& h : hyps_)
+    if (&h != &b && (!h.broad || !h.probe)) rivals += std::exp(h.log_mass - b.log_mass);
+  if (rivals >= opt_.converged_doubt) return false;
   return !global_start_ || travelled_ >= opt_.anneal_min_travel;
 }
 
@@ -196,23 +212,50 @@ void ParticleFilter::organise() {
     }
     std::vector<detail::Mode> modes = detail::modesOf(h, opt_.cluster_cell, opt_.cluster_heading);
     std::size_t keep = 0;
-    double covered = 0;
-    while (keep < modes.size() && (covered < 0.99 || modes[keep].weight >= 0.01)) covered += modes[keep++].weight;
+    double covered = 0, in_modes = 0;
+    for (const detail::Mode& m : modes) in_modes += m.weight;
+    while (keep < modes.size() && (covered < 0.99 * in_modes || modes[keep].weight >= 0.01 * in_modes))
+      covered += modes[keep++].weight;
     if ((h.broad && keep > static_cast<std::size_t>(opt_.max_hypotheses)) || (!h.broad && keep < 2)) {
       next.push_back(std::move(h));
       continue;
     }
+    // A broad hypothesis also keeps the light modes whose best particle explains the last scan
+    // about as well as the best mode's: a look-alike place (a symmetric twin) that sampling left
+    // with few particles is a rival until the scans tell them apart.
+    std::vector<std::size_t> kept(keep);
+    std::iota(kept.begin(), kept.end(), std::size_t{0});
+    if (h.broad && h.last_ll.size() == h.particles.size()) {
+      std::vector<double> best(modes.size(), -std::numeric_limits<double>::infinity());
+      for (std::size_t m = 0; m < modes.size(); ++m)
+        for (std::size_t i : modes[m].members) best[m] = std::max(best[m], h.last_ll[i]);
+      const double top = *std::max_element(best.begin(), best.end());
+      std::vector<std::size_t> rivals;
+      for (std::size_t m = keep; m < modes.size(); ++m)
+        if (best[m] >= top - opt_.split_nats) rivals.push_back(m);
+      std::stable_sort(rivals.begin(), rivals.end(), [&](std::size_t a, std::size_t b) { return best[a] > best[b]; });
+      for (std::size_t m : rivals)
+        if (kept.size() < static_cast<std::size_t>(opt_.max_hypotheses)) kept.push_back(m);
+    }
+    // The children take the untempered posterior: their particles' weights and their masses.
+    std::vector<double> lu(h.particles.size());
+    for (std::size_t i = 0; i < lu.size(); ++i)
+      lu[i] = h.particles[i].log_w + (h.log_ratio.size() == lu.size() ? h.log_ratio[i] : 0.0);
+    const double lu_norm = detail::logSumExp(lu);
+    for (double& v : lu) v -= lu_norm;
     std::vector<Hypothesis> children;
-    for (std::size_t k = 0; k < keep; ++k) {
+    for (std::size_t m : kept) {
       Hypothesis c;
       c.broad = false;
       c.probe = h.probe;
       c.fit = h.fit;
       c.born_m = h.born_m;
-      c.id = k == 0 ? h.id : next_id_++;
-      const double lw = std::log(modes[k].weight);
-      c.log_mass = h.log_mass + lw;
-      for (std::size_t i : modes[k].members) c.particles.push_back({h.particles[i].pose, h.particles[i].log_w - lw});
+      c.id = m == 0 ? h.id : next_id_++;
+      std::vector<double> member_lu;
+      for (std::size_t i : modes[m].members) member_lu.push_back(lu[i]);
+      const double lw = detail::logSumExp(member_lu);
+      c.log_mass = h.log_mass + std::max(lw, std::log(0.01));
+      for (std::size_t i : modes[m].members) c.particles.push_back({h.particles[i].pose, lu[i] - lw});
       detail::summarise(c);
       children.push_back(std::move(c));
     }
@@ -221,7 +264,7 @@ void ParticleFilter::organise() {
     const bool compact = std::all_of(children.begin(), children.end(),
                                      [&](const Hypothesis& c) { return c.spread <= 2.0 * opt_.cluster_cell; });
     if (h.broad && !compact) {
-      next_id_ -= keep - 1;  // the ids were not used
+      next_id_ -= kept.size() - 1;  // the ids were not used
       next.push_back(std::move(h));
       continue;
     }
@@ -266,7 +309,9 @@ void ParticleFilter::organise() {
   std::vector<Hypothesis> kept;
   for (Hypothesis& h : hyps_) {
     const bool is_top = h.log_mass == top;
-    const bool dead = h.particles.empty() || h.log_mass < top - opt_.prune_nats ||
+    // A broad probe is not judged by its mass until it has gathered into places (split): its
+    // first scans pay for the whole floor it samples.
+    const bool dead = h.particles.empty() || (!h.broad && h.log_mass < top - opt_.prune_nats) ||
                       (h.probe && !is_top && travelled_ - h.born_m > opt_.probe_life_m) ||
                       kept.size() >= static_cast<std::size_t>(opt_.max_hypotheses);
     if (!dead) {
@@ -293,8 +338,9 @@ bool ParticleFilter::resample(Hypothesis& h, bool is_best, bool force) {
     s2 += w[i] * w[i];
   }
   const double ess = s2 > 0 ? 1.0 / s2 : 0.0;
-  const auto global = static_cast<std::size_t>(opt_.global_particles > 0 ? opt_.global_particles : opt_.max_particles);
-  std::size_t count = h.broad ? global : static_cast<std::size_t>(opt_.max_particles);
+  const auto global = globalParticles();
+  // A broad hypothesis keeps the count it was made with (a probe of a trusted estimate is smaller).
+  std::size_t count = h.broad ? std::min(global, n) : static_cast<std::size_t>(opt_.max_particles);
   const std::size_t lo =
       std::min(count, static_cast<std::size_t>(h.broad   ? std::max<std::size_t>(opt_.min_particles, global / 10)
                                                : is_best ? opt_.min_particles
@@ -302,7 +348,7 @@ bool ParticleFilter::resample(Hypothesis& h, bool is_best, bool force) {
   // A hypothesis that grew by a merge is brought back to its bound even when its ESS is high.
   if (!force && ess >= opt_.resample_ess * static_cast<double>(n) && n <= count) return false;
   std::uniform_real_distribution<double> u01(0.0, 1.0);
-  if (opt_.adaptive) {
+  if (opt_.adaptive && !h.broad) {  // a broad hypothesis keeps its count: its modes need it
     // KLD sampling (table 8.4): draw until the count covers the bins the draws occupy.
     std::vector<double> cdf(n);
     std::partial_sum(w.begin(), w.end(), cdf.begin());
@@ -321,7 +367,13 @@ bool ParticleFilter::resample(Hypothesis& h, bool is_best, bool force) {
   std::vector<Particle> next;
   next.reserve(count);
   const double u = u01(rng_) / static_cast<double>(count);
-  for (std::size_t i : lowVarianceResample(w, count, u)) next.push_back({h.particles[i].pose, 0.0});
+  const bool ratios = h.log_ratio.size() == n;
+  std::vector<double> next_ratio;
+  for (std::size_t i : lowVarianceResample(w, count, u)) {
+    next.push_back({h.particles[i].pose, 0.0});
+    if (ratios) next_ratio.push_back(h.log_ratio[i]);
+  }
+  h.log_ratio = std::move(next_ratio);
   const double log_w = -std::log(static_cast<double>(next.size()));
   for (Particle& p : next) p.log_w = log_w;
   h.particles = std::move(next);

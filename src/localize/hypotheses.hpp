@@ -20,8 +20,9 @@ std::int64_t binKey(const Pose2& p, double bin_xy, double bin_theta);
 void summarise(Hypothesis& h);
 
 /// The particles of `h` grouped into modes: connected components of the (x, y, heading) cells
-/// they occupy (8-neighbours in position, +-1 in heading, headings wrapping), heaviest first,
-/// with each group's share of the weight.
+/// whose weight is at least 5% of the mean weight per occupied cell (8-neighbours in position,
+/// +-1 in heading, headings wrapping: stragglers between two places do not join them), heaviest
+/// first, with each group's share of the weight. Particles in lighter cells belong to no mode.
 struct Mode {
   std::vector<std::size_t> members;
   double weight = 0.0;

@@ -111,7 +111,17 @@ LocalizeResult localizeLog(const LaserLog& log, sensor::SensorModel& model, cons
     if (!sure[k] || (k + 1 < n && !result.settled[k + 1])) break;
     result.settled[k] = 1;
   }
-  result.converged = n > 0 && result.settled[n - 1];
+  // ... over enough travel: odometry distance from the first settled scan to the last.
+  std::size_t first_settled = n;
+  for (std::size_t k = 0; k < n; ++k)
+    if (result.settled[k]) {
+      first_settled = k;
+      break;
+    }
+  double settled_travel = 0.0;
+  for (std::size_t k = first_settled + 1; k < n; ++k)
+    settled_travel += (laserOdom(log.scans[k]).t - laserOdom(log.scans[k - 1]).t).norm();
+  result.converged = n > 0 && result.settled[n - 1] && settled_travel >= options.converged_min_travel;
   if (!result.converged) std::fill(result.settled.begin(), result.settled.end(), std::uint8_t{0});
   for (std::size_t k = 0; k < n && result.converged; ++k)
     if (result.settled[k]) {

@@ -38,11 +38,15 @@ double ParticleFilter::climb(Pose2& x, const sensor::BeamSet& beams) const {
 void ParticleFilter::refine(Hypothesis& h, const sensor::BeamSet& beams) {
   if (h.particles.empty() || opt_.refine_levels <= 0) return;
   if (h.broad) {
-    // The heaviest particles each climb on their own; a particle's weight gains what its
-    // likelihood gained (annealed as the hypothesis is): random particles near the robot rarely
-    // land within a few centimetres of it, but often within the reach of a climb.
-    std::vector<std::size_t> order(h.particles.size());
-    std::iota(order.begin(), order.end(), std::size_t{0});
+    // The heaviest particle of each of the best places climbs on its own (one per place, so that a
+    // leading place does not take every climb); its weight gains what its likelihood gained
+    // (annealed as the hypothesis is): random particles near the robot rarely land within a few
+    // centimetres of it, but often within the reach of a climb.
+    std::vector<std::size_t> order;
+    for (const detail::Mode& m : detail::modesOf(h, opt_.cluster_cell, opt_.cluster_heading))
+      order.push_back(*std::max_element(m.members.begin(), m.members.end(), [&](std::size_t a, std::size_t b) {
+        return h.particles[a].log_w < h.particles[b].log_w;
+      }));
     const std::size_t k = std::min<std::size_t>(order.size(), static_cast<std::size_t>(opt_.refine_broad));
     std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
                       [&](std::size_t a, std::size_t b) { return h.particles[a].log_w > h.particles[b].log_w; });
@@ -53,7 +57,11 @@ void ParticleFilter::refine(Hypothesis& h, const sensor::BeamSet& beams) {
       const double before = model_.logLikelihood(p.pose, beams);
       gain[j] = climb(p.pose, beams) - before;
     });
-    for (std::size_t j = 0; j < k; ++j) h.particles[order[j]].log_w += inv_t * gain[j];
+    for (std::size_t j = 0; j < k; ++j) {
+      h.particles[order[j]].log_w += inv_t * gain[j];
+      if (h.log_ratio.size() == h.particles.size()) h.log_ratio[order[j]] += (1.0 - inv_t) * gain[j];
+      if (h.last_ll.size() == h.particles.size()) h.last_ll[order[j]] += gain[j];
+    }
     std::vector<double> lw(h.particles.size());
     for (std::size_t i = 0; i < lw.size(); ++i) lw[i] = h.particles[i].log_w;
     const double norm = detail::logSumExp(lw);

@@ -28,8 +28,8 @@ SensorProfile profileFromParams(const sensor::SensorParams& p) {
 SelfCalibrator::SelfCalibrator(const VectorMap& map, SelfCalibrationOptions options)
     : map_(map), opt_(options), next_fit_m_(options.first_after_m) {}
 
-void SelfCalibrator::add(std::size_t index, const Pose2& estimate, double spread, const Pose2& odometry,
-                         double step_m, std::size_t update) {
+void SelfCalibrator::add(std::size_t index, const Pose2& estimate, double spread, const Pose2& odometry, double step_m,
+                         std::size_t update) {
   spread_.push_back(spread);
   scans_.push_back(index);
   poses_.push_back(estimate);

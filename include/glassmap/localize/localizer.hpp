@@ -24,6 +24,9 @@ struct LocalizeOptions {
   double update_min_rot = deg2rad(1.0);     ///< ... or this much turning [rad]
   Pose2 T_base_laser;                       ///< laser mounting on the robot (odometry is of the base)
   SelfCalibrationOptions self_calibration;  ///< refits of the sensor model to the log (on by default)
+  double converged_min_travel = 2.0;        ///< converged at the end only after staying so over this
+                                            ///< much travel [m] (a cloud that collapsed on the last
+                                            ///< scans is not yet an answer)
 };
 
 /// What a run did.

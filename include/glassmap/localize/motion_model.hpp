@@ -14,13 +14,13 @@ namespace glassmap::localize {
 /// depend on the step: at 1 cm steps a 22% alpha is 2 cm per metre, at 1 m steps 22 cm, so a log
 /// subsampled to 1 m steps would drift along every corridor.
 struct OdometryNoise {
-  double alpha1 = 0.0025;       ///< rotation noise from rotation [rad^2 / rad^2] (5%)
-  double alpha2 = 0.0012;       ///< rotation noise from translation [rad^2 / m^2] (2 deg per metre)
-  double alpha3 = 0.0025;       ///< translation noise from translation [m^2 / m^2] (5%)
-  double alpha4 = 0.001;        ///< translation noise from rotation [m^2 / rad^2]
-  double walk_trans = 6.4e-4;   ///< translation random walk [m^2 per m] (2.5 cm after 1 m)
-  double walk_heading = 1.3e-4; ///< heading random walk from translation [rad^2 per m] (0.65 deg after 1 m)
-  double walk_turn = 8.8e-4;    ///< heading random walk from turning [rad^2 per rad] (1.7 deg after 1 rad)
+  double alpha1 = 0.0025;        ///< rotation noise from rotation [rad^2 / rad^2] (5%)
+  double alpha2 = 0.0012;        ///< rotation noise from translation [rad^2 / m^2] (2 deg per metre)
+  double alpha3 = 0.0025;        ///< translation noise from translation [m^2 / m^2] (5%)
+  double alpha4 = 0.001;         ///< translation noise from rotation [m^2 / rad^2]
+  double walk_trans = 6.4e-4;    ///< translation random walk [m^2 per m] (2.5 cm after 1 m)
+  double walk_heading = 1.3e-4;  ///< heading random walk from translation [rad^2 per m] (0.65 deg after 1 m)
+  double walk_turn = 8.8e-4;     ///< heading random walk from turning [rad^2 per rad] (1.7 deg after 1 rad)
 };
 
 /// An odometry increment split into rotate, translate, rotate.

@@ -41,6 +41,10 @@ struct Hypothesis {
   bool broad = false;               ///< random particles not yet split into modes (annealed)
   bool probe = false;               ///< started as a recovery probe and not yet the best
   double born_m = 0.0;              ///< the filter's travel when it was made [m]
+  std::vector<double> last_ll;      ///< each particle's log-likelihood of the last scan (broad ones)
+  std::vector<double> log_ratio;    ///< broad ones: each particle's untempered minus annealed log
+                                    ///< weight (its mass and its split follow the untempered
+                                    ///< posterior; the annealed weights only choose what survives)
   Pose2 estimate;                   ///< weighted mean near its heaviest cell (last correct())
   double spread = 0.0;              ///< weighted RMS distance of its particles from estimate [m]
   double fit = 0.0;                 ///< short-term average of its per-beam marginal likelihood [-]
@@ -58,7 +62,13 @@ enum class Recovery {
 struct FilterOptions {
   int max_particles = 2000;                ///< particles of a hypothesis, and the KLD upper bound
   int min_particles = 500;                 ///< KLD lower bound of the best hypothesis
-  int global_particles = 0;                ///< particles of a global initialisation or probe (0: max_particles)
+  int global_particles = 0;                ///< particles of a global initialisation and of the probes
+                                           ///< after one (probes from --init: max_particles); 0: from
+                                           ///< the free space, global_density per m^2, at least
+                                           ///< max_particles and at most max_global_particles
+  double global_density = 10.0;            ///< [1/m^2]: one particle per 0.1 m^2 lands within the
+                                           ///< reach of a climb (1 m, 20 deg) of any pose
+  int max_global_particles = 50000;        ///< [-]
   bool adaptive = true;                    ///< KLD sampling; false keeps max_particles always
   double kld_epsilon = 0.05;               ///< KLD error bound [-]
   double kld_z = 2.33;                     ///< upper standard-normal quantile of 1 - delta (0.99) [-]
@@ -75,6 +85,7 @@ struct FilterOptions {
                                            ///< which clutter never does (it shortens readings)
   double contradiction_rate = 0.3;         ///< smoothing of that share per update [-]
   double probe_prior = 1e-4;               ///< prior probability of "lost" a probe starts with [-]
+  double untrusted_probe_prior = 1e-2;     ///< ... after a global localization, until trust_after_m [-]
   double probe_fit = 0.7;                  ///< a probe may lead only once its places explain the scans at
                                            ///< least this well, per beam, against the long-term average of
                                            ///< tracking: where the map explains nothing (clutter, a room
@@ -91,7 +102,9 @@ struct FilterOptions {
   double prune_nats = 25.0;                ///< hypotheses this far below the best in log mass are dropped
   int max_hypotheses = 24;                 ///< at most this many hypotheses (the lightest go first)
   int min_hypothesis_particles = 60;       ///< KLD lower bound of the other hypotheses
-  double split_after_m = 1.0;              ///< a broad hypothesis splits into modes after this travel [m]
+  double split_after_m = 1.0;              ///< a broad hypothesis splits into modes after this travel [m],
+  double split_nats = 15.0;                ///< keeping every mode whose best particle explains the last
+                                           ///< scan within this of the best mode's [-]
   double cluster_cell = 1.0;               ///< cells of the mode search [m] ...
   double cluster_heading = deg2rad(30.0);  ///< ... and headings [rad]
   double refine_step = 0.2;                ///< while hypotheses compete, each is moved onto the nearest optimum
@@ -121,8 +134,10 @@ class ParticleFilter {
   /// One hypothesis of max_particles particles drawn around `pose` with std devs sigma_xy [m] and
   /// sigma_theta [rad].
   void initialize(const Pose2& pose, double sigma_xy = 0.1, double sigma_theta = deg2rad(5.0));
-  /// One broad hypothesis of global_particles particles uniform over the free space.
+  /// One broad hypothesis of globalParticles() particles uniform over the free space.
   void initializeGlobal();
+  /// Particles of a global initialisation, and of a probe after one (FilterOptions::global_particles).
+  std::size_t globalParticles() const;
 
   /// Moves every particle by the odometry increment (in the laser frame).
   void predict(const OdometryDelta& delta);

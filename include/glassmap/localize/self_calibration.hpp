@@ -72,7 +72,7 @@ class SelfCalibrator {
   SelfCalibrationOptions opt_;
   std::vector<std::size_t> scans_, updates_;
   std::vector<Pose2> poses_, odometry_;
-  std::vector<double> along_;  // trusted travel at each entry [m]
+  std::vector<double> along_;   // trusted travel at each entry [m]
   std::vector<double> spread_;  // particle spread at each entry [m]
   double trusted_m_ = 0.0;
   double next_fit_m_ = 0.0;
