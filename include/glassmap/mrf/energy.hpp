@@ -86,12 +86,11 @@ std::vector<int32_t> paperPsi(int num_glass_bins, double w_diff = 3.0, double w_
 /// pay the same boundary cost).
 ///
 /// Pane: knows the pane direction of a glass label (normal at k * 180/bins deg, pane direction
-/// 90 deg from it). Glass next to empty or occupied costs w (0.5 + 0.5 cos^2 a), a the angle
-/// between the edge and the pane direction: half where empty space lies across the pane (what
-/// glass looks like), the full w where the pane would go on (a gap or an end). Glass labels of
-/// different angle: 3 from 30 deg apart, less below (pane_angle_full_deg). The default of glassmap map: on a SICK LMS200-like laser it
-/// keeps office-floor's sparsely hit panes that the closed table broke up (glass cell F1@2 0.51 ->
-/// 0.70) and draws no glass on a glass-free floor. Not storable in the instance file.
+/// 90 deg from it). Glass next to empty or occupied costs w (i + (1 - i) cos^2 a), i =
+/// pane_isotropic (0), a the angle between the edge and the pane direction: nothing where empty
+/// space lies across the pane (what glass looks like), the full w where the pane would go on (a
+/// gap or an end). Glass labels of different angle: 3 from 30 deg apart, less below
+/// (pane_angle_full_deg). The default of glassmap map. Not storable in the instance file.
 enum class PsiKind { Paper, Closed, Neutral, Pane };
 
 /// "paper" / "closed" / "neutral" / "pane".
