@@ -65,8 +65,7 @@ MappingResult mapLog(const LaserLog& log, const MappingOptions& o,
   grid::AngleHistograms hist(counts, bins);
   // No-return readings cross only what returned nothing their way (grid/no_returns.hpp); their
   // misses go into the standard occupancy map before the direct classifier reads d_real from it.
-  if (o.beams.deferNoReturns())
-    grid::integrateNoReturns(log, o.beams, grid::noReturnStops(log, o.beams, hist), counts, hist);
+  grid::integrateNoReturns(log, o.beams, counts, hist);
   SigmoidSums sums;
   if (o.method == Method::Direct) {
     sums = integrateSigmoid(log, o.beams, counts, o.occupancy, hist, o.direct, nullptr, report("angles"));

@@ -93,4 +93,10 @@ IntegrationStats integrateNoReturns(const LaserLog& log, const BeamOptions& opti
   return total;
 }
 
+IntegrationStats integrateNoReturns(const LaserLog& log, const BeamOptions& options, HitMissGrid& counts,
+                                    AngleHistograms& hist, const Progress& progress) {
+  if (!options.deferNoReturns()) return {};
+  return integrateNoReturns(log, options, noReturnStops(log, options, hist), counts, hist, progress);
+}
+
 }  // namespace glassmap::grid

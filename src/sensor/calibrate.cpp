@@ -383,13 +383,8 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
       turns.push_back(r.turn_deg);
     }
   }
-  auto median = [](std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
-  result.median_alignment_m = median(shifts);
-  result.median_alignment_deg = median(turns);
+  result.median_alignment_m = detail::median(shifts);
+  result.median_alignment_deg = detail::median(turns);
   SensorProfile& p = result.profile;
   p.wall_beams = walls.size();
   p.glass_beams = glass.size();
@@ -399,7 +394,7 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
   {
     std::vector<double> ranges;
     for (const WallBeam& b : walls) ranges.push_back(b.e);
-    p.typical_range_m = median(ranges);
+    p.typical_range_m = detail::median(ranges);
   }
   // Noise that grows with range, from the readings the EM called hits (against the walls) or from
   // neighbouring readings within scans (no map in it).
@@ -497,10 +492,10 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
                               " beams on glass with a clear mirrored path: the reflection rate keeps its prior value");
   }
   if (offsets.size() >= 100) {
-    const double m = median(offsets);
+    const double m = detail::median(offsets);
     std::vector<double> dev;
     for (double x : offsets) dev.push_back(std::abs(x - m));
-    const double mad = 1.4826 * median(dev);
+    const double mad = 1.4826 * detail::median(dev);
     p.glass_offset_m = {m, 1.2533 * mad / std::sqrt(static_cast<double>(offsets.size())), true};
   }
   return result;

@@ -26,15 +26,12 @@ void inScanResiduals(const LaserScan& scan, std::vector<RangeResidual>& out) {
   }
 }
 
-namespace {
-
-double medianOf(std::vector<double>& v) {
+double median(std::vector<double>& v) {
+  if (v.empty()) return 0.0;
   auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());
   return *mid;
 }
-
-}  // namespace
 
 RangeNoiseFit fitRangeNoise(std::vector<RangeResidual> r, double variance_factor, std::size_t min_residuals) {
   RangeNoiseFit fit;
@@ -46,7 +43,7 @@ RangeNoiseFit fitRangeNoise(std::vector<RangeResidual> r, double variance_factor
   // The pooled estimate: the one to keep when sigma does not grow with range.
   std::vector<double> dev(r.size());
   for (std::size_t i = 0; i < r.size(); ++i) dev[i] = std::abs(r[i].z);
-  const double pooled = scale * medianOf(dev);
+  const double pooled = scale * median(dev);
   fit.sigma0 = pooled;
   fit.sigma0_se = 1.2533 * pooled / std::sqrt(static_cast<double>(r.size()));
   // Range bins of equal counts (at least 200 residuals each, at most 12 bins).
@@ -61,7 +58,7 @@ RangeNoiseFit fitRangeNoise(std::vector<RangeResidual> r, double variance_factor
       d.push_back(std::abs(r[i].z));
       sum_r += r[i].range;
     }
-    const double s = scale * medianOf(d), n = static_cast<double>(hi - lo);
+    const double s = scale * median(d), n = static_cast<double>(hi - lo);
     const double rb = sum_r / n;
     x.push_back(rb * rb);
     y.push_back(s * s);

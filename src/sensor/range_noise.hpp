@@ -8,6 +8,9 @@
 
 namespace glassmap::sensor::detail {
 
+/// The median of v (its upper middle for an even count; 0 when empty); v is reordered.
+double median(std::vector<double>& v);
+
 /// One noise sample: a residual in range units and the range it was read at.
 struct RangeResidual {
   float range;  ///< [m]

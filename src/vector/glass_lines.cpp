@@ -16,6 +16,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <boost/math/special_functions/gamma.hpp>
+
 #include "glassmap/core/angles.hpp"
 #include "piece.hpp"
 
@@ -93,18 +95,11 @@ void splitAtGaps(const std::vector<std::pair<double, std::uint32_t>>& along, std
   splitAtGaps(along, cut, hi, res, alpha, always_join, never_join, runs);
 }
 
-// log P(X >= n) for X ~ Poisson(mu): the chance of n or more cells in a band where mu are expected.
+// log P(X >= n) for X ~ Poisson(mu): the chance of n or more cells in a band where mu are expected
+// (the regularised lower incomplete gamma function P(n, mu); -inf where it underflows).
 double logPoissonTail(std::size_t n, double mu) {
   if (n == 0) return 0.0;
-  double log_term = -mu + static_cast<double>(n) * std::log(mu) - std::lgamma(static_cast<double>(n) + 1.0);
-  double log_sum = log_term;
-  for (std::size_t k = n + 1; k < n + 400; ++k) {
-    log_term += std::log(mu / static_cast<double>(k));
-    const double hi = std::max(log_sum, log_term), lo = std::min(log_sum, log_term);
-    log_sum = hi + std::log1p(std::exp(lo - hi));
-    if (log_term < log_sum - 40.0) break;
-  }
-  return log_sum;
+  return std::log(boost::math::gamma_p(static_cast<double>(n), mu));
 }
 
 // log10 of the number of false alarms of a piece (Desolneux, Moisan and Morel's a contrario
@@ -171,15 +166,16 @@ void glassPiecesByVoting(const CellCloud& cloud, const MaterialOptions& mo, cons
     // The line's cells: unused, within max_distance, label within max_angle of the line's normal.
     Vec2 normal = acc.normals[static_cast<std::size_t>(a)];
     double rho = acc.rho_min + (r + 0.5) * acc.rho_step;
-    std::vector<std::uint32_t> ids;
-    for (int pass = 0; pass < 2; ++pass) {
-      ids.clear();
-      for (std::uint32_t i = 0; i < n; ++i) {
-        if (used[i] || std::abs(cloud.points[i].dot(normal) - rho) > mo.max_distance) continue;
-        if (std::abs(cloud.normals[i].dot(normal)) < cos_max) continue;
-        ids.push_back(i);
-      }
-      if (ids.size() < 2 || pass == 1) break;
+    auto gather = [&] {
+      std::vector<std::uint32_t> near;
+      for (std::uint32_t i = 0; i < n; ++i)
+        if (!used[i] && std::abs(cloud.points[i].dot(normal) - rho) <= mo.max_distance &&
+            std::abs(cloud.normals[i].dot(normal)) >= cos_max)
+          near.push_back(i);
+      return near;
+    };
+    std::vector<std::uint32_t> ids = gather();
+    if (ids.size() >= 2) {
       // Refit: the cells' own line when they spread along it, the vote's line otherwise.
       Piece p;
       p.ids = ids;
@@ -188,6 +184,7 @@ void glassPiecesByVoting(const CellCloud& cloud, const MaterialOptions& mo, cons
         normal = p.normal();
         rho = p.c.dot(normal);
       }
+      ids = gather();
     }
     // However the refit moved, the cells the vote counted leave the accumulator, so the loop ends.
     for (std::uint32_t i = 0; i < n; ++i) {

@@ -12,6 +12,7 @@
 #include "glassmap/grid/angle_histograms.hpp"
 #include "glassmap/grid/scan_integration.hpp"
 #include "glassmap/grid/traversal.hpp"
+#include "grid_test_logs.hpp"
 
 namespace glassmap::grid {
 namespace {
@@ -114,20 +115,9 @@ TEST(Occupancy, HitsOccupyMissesFree) {
   EXPECT_NEAR(m.probability({0, 100}), 0.12, 1e-3);
 }
 
+// Five scans at the wall; beam 90 of each is a max-range reading (clears, no hit).
 LaserLog wallLog() {
-  // A laser at the origin looking along +x at a wall at x = 2 m, 181 beams over +-20 deg.
-  LaserLog log;
-  for (int s = 0; s < 5; ++s) {
-    LaserScan scan;
-    scan.max_range = 10.0;
-    scan.start_angle = deg2rad(-20.0);
-    scan.angular_step = deg2rad(40.0 / 180.0);
-    scan.laser_pose = Pose2(0.0, 0.1 * s, 0.0);
-    for (int i = 0; i < 181; ++i) scan.ranges.push_back(static_cast<float>(2.0 / std::cos(scan.beamAngle(i))));
-    scan.ranges[90] = 10.0f;  // one max-range reading: clears, no hit
-    log.scans.push_back(scan);
-  }
-  return log;
+  return test::wallLog(5, [](int, int i) { return i == 90; });
 }
 
 TEST(ScanIntegration, WallIsOccupiedAndFreeSpaceFree) {

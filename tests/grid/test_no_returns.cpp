@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "glassmap/grid/no_returns.hpp"
+#include "grid_test_logs.hpp"
 
 namespace glassmap::grid {
 namespace {
@@ -13,18 +14,7 @@ namespace {
 // A laser at (0, y) looking along +x over +-20 deg at a wall at x = 2 m; every tenth beam is a
 // dropout (no return).
 LaserLog droppingWallLog() {
-  LaserLog log;
-  for (int s = 0; s < 10; ++s) {
-    LaserScan scan;
-    scan.max_range = 10.0;
-    scan.start_angle = deg2rad(-20.0);
-    scan.angular_step = deg2rad(40.0 / 180.0);
-    scan.laser_pose = Pose2(0.0, 0.1 * s, 0.0);
-    for (int i = 0; i < 181; ++i)
-      scan.ranges.push_back(i % 10 == s % 10 ? 10.0f : static_cast<float>(2.0 / std::cos(scan.beamAngle(i))));
-    log.scans.push_back(scan);
-  }
-  return log;
+  return test::wallLog(10, [](int s, int i) { return i % 10 == s % 10; });
 }
 
 struct Passes {
@@ -42,7 +32,7 @@ Passes run(const LaserLog& log, NoReturnMode mode, double cap = 8.0) {
   HitMissGrid counts(g);
   integrateCounts(log, opt, counts);
   AngleHistograms hist(counts, 36);
-  if (opt.deferNoReturns()) integrateNoReturns(log, opt, noReturnStops(log, opt, hist), counts, hist);
+  integrateNoReturns(log, opt, counts, hist);
   integrateAngles(log, opt, hist);
   return {g, std::move(counts), std::move(hist)};
 }

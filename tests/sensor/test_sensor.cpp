@@ -10,18 +10,12 @@
 #include "glassmap/sensor/field_model.hpp"
 #include "glassmap/sensor/glass_model.hpp"
 #include "glassmap/sensor/sensor_model.hpp"
+#include "sensor_test_maps.hpp"
 
 namespace glassmap::sensor {
 namespace {
 
-MapSegment seg(Vec2 a, Vec2 b, Material m = Material::Wall, double thickness = 0.1) {
-  MapSegment s;
-  s.a = a;
-  s.b = b;
-  s.material = m;
-  s.thickness = thickness;
-  return s;
-}
+using test::seg;
 
 // A 10 x 12 m room around the origin with a 2 m glass pane centred at (3, 0) whose normal makes
 // `theta_deg` with the x axis (the beam along +x meets it at that incidence).

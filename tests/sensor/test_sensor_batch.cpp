@@ -10,18 +10,12 @@
 
 #include "glassmap/core/angles.hpp"
 #include "glassmap/sensor/sensor_model.hpp"
+#include "sensor_test_maps.hpp"
 
 namespace glassmap::sensor {
 namespace {
 
-MapSegment seg(Vec2 a, Vec2 b, Material m = Material::Wall, double thickness = 0.1) {
-  MapSegment s;
-  s.a = a;
-  s.b = b;
-  s.material = m;
-  s.thickness = thickness;
-  return s;
-}
+using test::seg;
 
 // A 20 x 12 m room with a row of three panes across it (0.01 m thick, tilted a little) and a
 // glass-fronted box in a corner.

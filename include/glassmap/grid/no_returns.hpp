@@ -55,4 +55,10 @@ NoReturnStops noReturnStops(const LaserLog& log, const BeamOptions& options, con
 IntegrationStats integrateNoReturns(const LaserLog& log, const BeamOptions& options, const NoReturnStops& stops,
                                     HitMissGrid& counts, AngleHistograms& histograms, const Progress& progress = {});
 
+/// The no-return pass as the mapping runs it: nothing unless options.deferNoReturns(); otherwise
+/// noReturnStops, then integrateNoReturns with them. Call it between the candidates'
+/// AngleHistograms and the per-angle pass.
+IntegrationStats integrateNoReturns(const LaserLog& log, const BeamOptions& options, HitMissGrid& counts,
+                                    AngleHistograms& histograms, const Progress& progress = {});
+
 }  // namespace glassmap::grid
