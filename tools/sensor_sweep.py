@@ -38,6 +38,9 @@ CUSTOM = {
     "noisy-fine": {"laser": "{preset: hokuyo-utm30lx, rate: 10, resolution_deg: 0.25, range_sigma: 0.03, "
                             "dropout_rate: 0.03}",
                    "glass": "{n_glass: 1.5, direct_sigma_deg: 4.0, direct_peak: 0.55, reflection_gain: 1.0}"},
+    # The scene's default laser with 6 cm range noise and the same weak lobe: where mapping breaks.
+    "noisy-6cm": {"laser": "{range_sigma: 0.06}",
+                  "glass": "{n_glass: 1.5, direct_sigma_deg: 4.0, direct_peak: 0.55, reflection_gain: 1.0}"},
 }
 
 
