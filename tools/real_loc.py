@@ -119,6 +119,9 @@ def main():
                     help="name=extra localize arguments, separated by ';'")
     ap.add_argument("--check", type=float, default=0.0,
                     help="exit 1 when some run's ATE RMSE exceeds this [m] or it was lost (a test)")
+    ap.add_argument("--max-lost", type=int, default=0,
+                    help="with --check: this many runs may be lost (max error over 1 m); every other run must "
+                         "be under --check (the filter loses Freiburg in about 1 run in 60 over seeds: README)")
     ap.add_argument("logs", nargs="*", default=LOGS)
     a = ap.parse_args()
     gm = a.glassmap
@@ -166,12 +169,16 @@ def main():
                 cells.append(f"{r['rmse']:.3f} / {r['max']:.2f}" + (" (lost)" if r["lost"] else ""))
             print(f"| {name} | {opt_name} | " + " | ".join(cells) + " |")
     if a.check > 0:
-        bad = [r for r in results if r["rmse"] > a.check or r["lost"]]
+        lost = [r for r in results if r["lost"]]
+        bad = [r for r in results if r["rmse"] > a.check and not r["lost"]]
+        for r in lost:
+            print(f"LOST: {r['log']} {r['odometry']} {r['options']}: ATE RMSE {r['rmse']:.3f} m, max {r['max']:.2f} m")
         for r in bad:
             print(f"FAILED: {r['log']} {r['odometry']} {r['options']}: ATE RMSE {r['rmse']:.3f} m, max {r['max']:.2f} m")
-        if bad:
+        if bad or len(lost) > a.max_lost:
             raise SystemExit(1)
-        print(f"all {len(results)} runs under {a.check} m and never lost")
+        print(f"{len(results) - len(lost)} of {len(results)} runs under {a.check} m, {len(lost)} lost "
+              f"(at most {a.max_lost} allowed)")
 
 
 if __name__ == "__main__":
