@@ -116,6 +116,12 @@ void run(MapArgs& args) {
     if (use_mrf) std::printf("%-22s %zu cells changed\n", "mrf", refined.changed);
     if (options.prune_unfitted_glass)
       std::printf("%-22s %zu glass cells off every glass segment relabelled\n", "pane fit", result.pruned_glass);
+    if (options.sparse_panes)
+      std::printf("%-22s %zu found, %.1f m (%zu runs of %zu weak returns tested; rejected: %zu chance, %zu opaque, "
+                  "%zu mirror images)\n",
+                  "sparse panes", result.sparse.panes, result.sparse.metres, result.sparse.runs_tested,
+                  result.sparse.weak_returns, result.sparse.rejected_chance, result.sparse.rejected_opaque,
+                  result.sparse.rejected_mirror);
     if (options.phantoms)
       std::printf("%-22s %zu cells cleared (%zu of %zu beams through glass folded)\n", "mirror phantoms",
                   phantom.cells_cleared, phantom.folded_beams, phantom.beams_through_glass);
@@ -124,9 +130,9 @@ void run(MapArgs& args) {
                   floorplan.map.count(Material::Wall));
     std::printf(
         "%-22s %.2f (read %.2f, calibration %.2f; last pass: counts %.2f, angles %.2f, classify %.2f, mrf %.2f, "
-        "phantoms %.2f, vectorize %.2f)\n",
+        "sparse panes %.2f, phantoms %.2f, vectorize %.2f)\n",
         "seconds", seconds, seconds_read, result.seconds.calibration, st.seconds_counts, st.seconds_angles,
-        st.seconds_classify, refined.seconds, result.seconds.phantoms, floorplan.stats.seconds);
+        st.seconds_classify, refined.seconds, result.seconds.sparse, result.seconds.phantoms, floorplan.stats.seconds);
     std::printf("%-22s %.1f MB\n", "peak memory", static_cast<double>(peak) / 1e6);
     std::printf("%-22s %s/{map.yaml,map.pgm,labels.tif,map.png,sensor.yaml,stats.json%s}\n", "wrote",
                 dir.string().c_str(), args.vectorize ? ",floorplan.{gpkg,geojson,dxf,svg,png}" : "");
@@ -173,6 +179,11 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_flag("!--keep-unfitted-glass", args->options.prune_unfitted_glass,
                 "keep glass cells that no fitted glass segment explains: by default they take their best\n"
                 "non-glass label (people walking by leave arcs of cells that each look like glass)");
+  cmd->add_flag("!--no-sparse-panes", args->options.sparse_panes,
+                "do not look for panes too faint for the cell classifiers: by default, returns from cells most\n"
+                "beams cross, each along a beam nearly normal to the line they form, are grouped by line votes;\n"
+                "a run along a line is drawn as glass when chance does not explain it (a contrario), the beams\n"
+                "meeting it mostly pass it, and it is not a mirror image folded by another pane");
   cmd->add_flag("!--keep-phantoms", args->options.phantoms,
                 "keep mirror phantoms: by default, wall and glass cells whose returns mostly ran straight\n"
                 "through a pane and then through a wall (impossible unless the pane folded the beam) become unknown");

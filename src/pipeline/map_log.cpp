@@ -67,6 +67,15 @@ MapResult mapOnce(const LaserLog& log, const MapOptions& options, const Progress
     report("mrf", 1.0);
   }
 
+  // Panes too faint for the cell classifiers: weak returns lined up along their normals.
+  if (options.sparse_panes) {
+    report("sparse", 0.0);
+    const auto ts = std::chrono::steady_clock::now();
+    out.sparse = glass::findSparsePanes(log, mapping.beams, options.sparse, out.evidence);
+    out.seconds.sparse = secondsSince(ts);
+    report("sparse", 1.0);
+  }
+
   // Mirror phantoms: cells drawn by beams a pane folded.
   if (options.phantoms) {
     report("phantoms", 0.0);
@@ -174,6 +183,7 @@ bool applyProfile(MapOptions& o, const SensorProfile& p) {
   set(d.sigmoid_margin, dd.sigmoid_margin, std::max(dd.sigmoid_margin, 3.0 * sigma / res));
   set(o.mapping.beams.miss_margin, defaults.mapping.beams.miss_margin,
       std::max(defaults.mapping.beams.miss_margin, 3.0 * sigma));
+  set(o.sparse.range_sigma, defaults.sparse.range_sigma, sigma);
   set(o.phantom.glass_margin, defaults.phantom.glass_margin, std::max(defaults.phantom.glass_margin, 3.0 * sigma));
   set(o.phantom.block_margin, defaults.phantom.block_margin, std::max(defaults.phantom.block_margin, 6.0 * sigma));
   set(o.vectorize.noise_floor, defaults.vectorize.noise_floor, std::max(defaults.vectorize.noise_floor, sigma / res));

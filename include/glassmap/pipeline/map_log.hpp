@@ -2,7 +2,7 @@
 /// The whole mapping pipeline as one call (DESIGN.md, "The pipeline"):
 ///
 ///   log -> grid counts and per-angle statistics -> cell classifier (paper 2.5.3 / 2.5.4)
-///       -> MRF (2.5.5) -> mirror-phantom test -> vectorization -> pane fit of the cells
+///       -> MRF (2.5.5) -> sparse panes -> mirror-phantom test -> vectorization -> pane fit of the cells
 ///
 /// The command line (`glassmap map`), the tests and the bench call this; each step's own module
 /// holds its options and its code.
@@ -16,6 +16,7 @@
 #include "glassmap/core/sensor_profile.hpp"
 #include "glassmap/glass/mapping.hpp"
 #include "glassmap/glass/phantoms.hpp"
+#include "glassmap/glass/sparse_panes.hpp"
 #include "glassmap/mrf/refine.hpp"
 #include "glassmap/sensor/calibrate.hpp"
 #include "glassmap/vector/vectorize.hpp"
@@ -35,6 +36,8 @@ struct MapOptions {
   MapMethod method = MapMethod::Mrf;
   glass::MappingOptions mapping;  ///< grid, beams, classifiers (mapping.method is set from method)
   mrf::RefineOptions mrf;         ///< used when method == Mrf
+  bool sparse_panes = true;       ///< look for panes too faint for the cell classifiers (glass/sparse_panes.hpp)
+  glass::SparsePaneOptions sparse;
   bool phantoms = true;           ///< run the mirror-phantom test
   glass::PhantomOptions phantom;
   bool fit_floorplan = true;         ///< vectorize the labels into a floorplan
@@ -62,7 +65,7 @@ struct MapOptions {
 
 /// Sets every sensor-dependent threshold of the mapping steps from a profile, in the units of
 /// the grid (options.mapping.resolution): the direct classifier's lobe (peak, sigma, floor; only
-/// with options.profile_lobe), the miss margin and sigmoid margin (range noise), the phantom test's margins and the vectorizer's
+/// with options.profile_lobe), the miss margin and sigmoid margin (range noise), the sparse-pane and phantom tests' margins and the vectorizer's
 /// noise floor and line distance. Values are never set below the defaults tuned for a 1-2 cm
 /// laser, so a precise laser keeps today's behaviour; a field the caller changed from its
 /// default (an explicit command-line option) is kept as given.
@@ -72,7 +75,8 @@ bool applyProfile(MapOptions& options, const SensorProfile& profile);
 /// Wall-clock time of each step [s].
 struct MapTimes {
   double counts = 0.0, angles = 0.0, classify = 0.0;  ///< grid passes and classifier
-  double mrf = 0.0, phantoms = 0.0, vectorize = 0.0;  ///< later steps (0 when skipped)
+  double mrf = 0.0, sparse = 0.0, phantoms = 0.0;     ///< later steps (0 when skipped)
+  double vectorize = 0.0;                             ///< vectorization (0 when skipped)
   double calibration = 0.0;                           ///< first passes and profile fits (0 when skipped)
   double total = 0.0;                                 ///< the whole call
 };
@@ -82,6 +86,7 @@ struct MapResult {
   glass::CellEvidence evidence;           ///< final labels (after every step) and costs
   glass::MappingStats stats;              ///< grid and classifier figures; glass/occupied counts are final
   mrf::RefineResult mrf;                  ///< MRF figures (zero unless method == Mrf)
+  glass::SparsePaneStats sparse;          ///< sparse-pane figures (zero when skipped)
   glass::PhantomStats phantoms;           ///< mirror-phantom figures (zero when skipped)
   vector::VectorizeResult floorplan;      ///< the fitted floorplan (empty unless fitted)
   bool has_floorplan = false;             ///< the floorplan was fitted
@@ -93,7 +98,7 @@ struct MapResult {
 };
 
 /// progress(stage, fraction): "counts" and "angles" report fractions in [0, 1]; "mrf",
-/// "phantoms", "vectorize" and "calibrate" report 0 when they start and 1 when they end.
+/// "sparse", "phantoms", "vectorize" and "calibrate" report 0 when they start and 1 when they end.
 using Progress = std::function<void(const char* stage, double fraction)>;
 
 /// Maps a log with the laser poses of its scans. Throws Error for bad options or a log with no

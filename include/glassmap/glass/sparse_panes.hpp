@@ -1,0 +1,67 @@
+#pragma once
+/// Panes too faint for the cell classifiers. A laser whose glass returns only within a degree or two
+/// of the normal, and then rarely (a triangulation scanner: peak 0.3, lobe sigma 1 deg), leaves about
+/// one return per pane cell over a whole log: never enough for a cell's own statistics, which see a
+/// cell crossed a hundred times and hit once. Along the pane those returns still line up, and each
+/// carries its pane's normal: it came back from a cell most beams cross, along a beam nearly normal
+/// to the line the returns form. So every such "weak" return votes for one line (normal angle =
+/// its beam direction, offset = its position along that normal), and a run of votes along a line is
+/// a pane when
+///  - a contrario, that many cells of the run would not hold such returns by chance (binomial tail
+///    against the density of weak returns of that direction over the observed cells, times the
+///    number of lines and runs tried: fewer than one false alarm expected);
+///  - the beams that meet the run mostly pass it and end well beyond (glass, not the front of a wall
+///    whose returns range noise spreads over two cells);
+///  - its returns are not a mirror image another pane folded (the image of a wall seen through a
+///    pane at the wall's normal has the same signature, behind the pane).
+/// Found panes are drawn into the labels (glass along the run, on cells labelled empty).
+
+#include <cstddef>
+
+#include "glassmap/glass/evidence.hpp"
+#include "glassmap/grid/scan_integration.hpp"
+
+namespace glassmap::glass {
+
+/// Parameters of the sparse-pane search.
+struct SparsePaneOptions {
+  double through_margin = 0.3;    ///< a beam passes a cell when it returns at least this far beyond it [m]
+  int min_through = 3;            ///< a weak return's cell is passed by at least this many beams
+  double max_hit_ratio = 0.5;     ///< ...and returns at most this share of the beams that reach it
+  double wall_clearance = 0.1;    ///< returns this close to an occupied cell are not weak [m] (at least 3 sigma)
+  double angle_tol_deg = 3.0;     ///< a return belongs to a line when its beam is this close to the normal [deg]
+  double offset_tol = 0.1;        ///< ...and it lies this close to the line [m] (at least 2.5 range sigma)
+  double specific_tol_deg = 10.0; ///< a cell counts for a line when most of its returns came this close
+  double min_specific = 0.6;      ///< ...to the line's normal: this share [deg, fraction]
+  double max_gap = 1.0;           ///< a run of returns along a line breaks at a longer gap [m]
+  double min_length = 0.3;        ///< shorter runs are not panes [m]
+  int min_returns = 5;            ///< fewer returns are not a pane
+  double background_margin = 1.0; ///< chance is judged against the density of weak returns this close [m]
+  double log10_max_nfa = 0.0;     ///< a run is a pane when log10(expected false alarms) is below this
+  double min_transmission = 0.5;  ///< share of the beams meeting the run that pass it and end beyond
+  double beyond = 0.3;            ///< ...at least this far past the line [m] (at least 5 range sigma)
+  double glass_margin = 0.15;     ///< mirror test: a pane crossed this far before the return [m]
+  double mirror_margin = 0.30;    ///< ...and the return this far beyond it [m]
+  double max_folded = 0.5;        ///< a run is a phantom when this share of its returns is folded
+  double range_sigma = 0.0;       ///< the laser's range noise [m] (widens offset_tol and beyond)
+};
+
+/// What the search did.
+struct SparsePaneStats {
+  std::size_t weak_returns = 0;     ///< returns from cells most beams pass
+  std::size_t runs_tested = 0;      ///< runs of weak returns along a voted line
+  std::size_t panes = 0;            ///< runs accepted as panes
+  std::size_t rejected_chance = 0;  ///< runs that chance explains (a contrario)
+  std::size_t rejected_opaque = 0;  ///< runs the beams do not pass (a wall's front)
+  std::size_t rejected_mirror = 0;  ///< runs folded by another pane (phantoms)
+  std::size_t cells_labelled = 0;   ///< empty cells relabelled glass
+  double metres = 0.0;              ///< total length of the panes found [m]
+};
+
+/// Finds sparse panes in the beams of `log` (as the mapping used them) and draws them into
+/// `evidence`'s labels: cells labelled empty along each pane become glass of the pane's normal bin.
+/// Other labels are kept.
+SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& beams, const SparsePaneOptions& options,
+                                CellEvidence& evidence);
+
+}  // namespace glassmap::glass
