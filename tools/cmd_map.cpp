@@ -118,10 +118,10 @@ void run(MapArgs& args) {
       std::printf("%-22s %zu glass cells off every glass segment relabelled\n", "pane fit", result.pruned_glass);
     if (options.sparse_panes)
       std::printf("%-22s %zu found, %.1f m (%zu runs of %zu weak returns tested; rejected: %zu chance, %zu opaque, "
-                  "%zu mirror images)\n",
+                  "%zu through another pane)\n",
                   "sparse panes", result.sparse.panes, result.sparse.metres, result.sparse.runs_tested,
                   result.sparse.weak_returns, result.sparse.rejected_chance, result.sparse.rejected_opaque,
-                  result.sparse.rejected_mirror);
+                  result.sparse.rejected_through);
     if (options.phantoms)
       std::printf("%-22s %zu cells cleared (%zu of %zu beams through glass folded)\n", "mirror phantoms",
                   phantom.cells_cleared, phantom.folded_beams, phantom.beams_through_glass);

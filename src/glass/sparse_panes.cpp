@@ -13,7 +13,6 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "glassmap/glass/phantoms.hpp"
 #include "glassmap/grid/angle_histograms.hpp"
 #include "glassmap/grid/traversal.hpp"
 
@@ -86,6 +85,35 @@ void countPasses(const LaserLog& log, const grid::BeamOptions& beams, const Cell
       hits[i] += t.hits[i];
       passes[i] += t.passes[i];
     }
+}
+
+// Chamfer distance (3 per cell step, 4 per diagonal step, capped at 255) of every cell to the
+// nearest occupied cell.
+std::vector<std::uint8_t> distanceToWalls(const CellEvidence& e) {
+  const grid::GridGeometry& g = e.geometry;
+  std::vector<std::uint8_t> d(g.cells(), 255);
+  for (std::size_t i = 0; i < d.size(); ++i)
+    if (e.label[i] == kOccupied) d[i] = 0;
+  auto relax = [&](int x, int y, int dx, int dy, int cost) {
+    if (!g.contains(x + dx, y + dy)) return;
+    std::uint8_t& here = d[g.index(x, y)];
+    here = static_cast<std::uint8_t>(std::min<int>(here, d[g.index(x + dx, y + dy)] + cost));
+  };
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      relax(x, y, -1, 0, 3);
+      relax(x, y, 0, -1, 3);
+      relax(x, y, -1, -1, 4);
+      relax(x, y, 1, -1, 4);
+    }
+  for (int y = g.height - 1; y >= 0; --y)
+    for (int x = g.width - 1; x >= 0; --x) {
+      relax(x, y, 1, 0, 3);
+      relax(x, y, 0, 1, 3);
+      relax(x, y, 1, 1, 4);
+      relax(x, y, -1, 1, 4);
+    }
+  return d;
 }
 
 // Line votes: (1-degree angle bin, offset bin) per weak return, the angle axis padded by `pad` bins
@@ -217,8 +245,9 @@ double log10BinomialTail(int k, int n, double p) {
 
 // Per run: returned beams that pass the run and end at least `beyond` past it, and beams that
 // return on it (within `band`) or just behind it.
+template <class Beyond>
 void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const std::vector<Run>& runs, double band,
-                    double beyond, std::vector<std::uint64_t>& pass, std::vector<std::uint64_t>& hit) {
+                    Beyond&& beyond_at, std::vector<std::uint64_t>& pass, std::vector<std::uint64_t>& hit) {
   struct Tally {
     std::vector<std::uint64_t> pass, hit;
   };
@@ -229,6 +258,7 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const s
     for (std::size_t s = range.begin(); s != range.end(); ++s)
       grid::forEachBeam(log.scans[s], beams, [&](const grid::Beam& beam) {
         if (!beam.hit) return;
+        const double beyond = beyond_at(beam.range);
         for (std::size_t r = 0; r < runs.size(); ++r) {
           const Vec2 n = runs[r].line.normal(), tg = runs[r].line.tangent();
           const double f = n.dot(beam.from) - runs[r].line.rho, g = n.dot(beam.to) - runs[r].line.rho;
@@ -260,29 +290,32 @@ void forRunCells(const grid::GridGeometry& g, const Run& run, Visit&& visit) {
                  [&](int x, int y, double, bool) { visit(g.index(x, y)); });
 }
 
-// True when most of the run's returns are mirror images across a pane of `panes` (labels with the
-// candidate runs drawn in) of a surface in front of it.
-bool isMirrorImage(const std::vector<WeakReturn>& w, const Run& run, const CellEvidence& panes,
-                   const SparsePaneOptions& o) {
+// True when most of the run's returns crossed another pane of `panes` (labels with the candidate
+// runs drawn in; a glass cell with at least min_pane_cells glass cells in its 5 x 5 block) at least
+// glass_margin before the return. Beyond a pane, mirror images (a wall seen via the pane at the
+// wall's normal) and walls seen through it at grazing incidence (shifted sideways by up to the
+// pane's thickness, they land in front of themselves) have the signature of a faint pane.
+bool seenThroughAnotherPane(const std::vector<WeakReturn>& w, const Run& run, const CellEvidence& panes,
+                            const SparsePaneOptions& o) {
   const grid::GridGeometry& g = panes.geometry;
-  std::size_t folded = 0;
+  auto isPane = [&](int x, int y) {
+    int n = 0;
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx) n += g.contains(x + dx, y + dy) && isGlass(panes.label[g.index(x + dx, y + dy)]);
+    return n >= o.min_pane_cells;
+  };
+  std::size_t via = 0;
   for (std::size_t i : run.returns) {
-    const Vec2 d = w[i].at - w[i].from;
-    const double range = d.norm();
-    const double glass_until = range - o.glass_margin;
-    int pane_label = -1;
-    Vec2 pane_at = Vec2::Zero();
+    const double range = (w[i].at - w[i].from).norm();
+    bool crossed = false;
     grid::traverse(g, w[i].from, w[i].at, [&](int x, int y, double enter, bool) {
-      if (enter * range >= glass_until) return false;
-      const int l = panes.label[g.index(x, y)];
-      if (!isGlass(l)) return true;
-      pane_label = l;
-      pane_at = w[i].from + enter * d;
-      return false;
+      if (enter * range >= range - o.glass_margin) return false;
+      crossed = isGlass(panes.label[g.index(x, y)]) && isPane(x, y);
+      return !crossed;
     });
-    if (pane_label >= 0 && detail::mirrorsASurface(panes, pane_label, pane_at, w[i].at, o.mirror_margin)) ++folded;
+    via += crossed;
   }
-  return static_cast<double>(folded) >= o.max_folded * static_cast<double>(run.returns.size());
+  return static_cast<double>(via) >= o.max_via * static_cast<double>(run.returns.size());
 }
 
 }  // namespace
@@ -293,22 +326,16 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
   const grid::GridGeometry& g = e.geometry;
   if (e.cells.empty() || log.scans.empty()) return stats;
   const double tol_r = std::max(o.offset_tol, 2.5 * o.range_sigma);
-  const double beyond = std::max(o.beyond, 5.0 * o.range_sigma);
   const double tol_a = deg2rad(o.angle_tol_deg);
 
   // Weak returns: from cells most beams pass.
   std::vector<std::uint32_t> hits, passes;
   countPasses(log, beams, e, o.through_margin, hits, passes);
-  // Cells within wall_clearance of an occupied cell: the ends and corners of walls, seen past from
-  // most directions and hit from a few, look like faint panes too.
-  const int clear = std::max(1, static_cast<int>(std::ceil(std::max(o.wall_clearance, 3.0 * o.range_sigma) / g.resolution)));
-  std::vector<bool> near_wall(g.cells(), false);
-  for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x) {
-      if (e.label[g.index(x, y)] != kOccupied) continue;
-      for (int yy = std::max(0, y - clear); yy <= std::min(g.height - 1, y + clear); ++yy)
-        for (int xx = std::max(0, x - clear); xx <= std::min(g.width - 1, x + clear); ++xx) near_wall[g.index(xx, yy)] = true;
-    }
+  // Distance to the nearest occupied cell: the ends and corners of walls, seen past from most
+  // directions and hit from a few, and the noise-spread front of a wall seen at grazing incidence
+  // look like faint panes too.
+  const std::vector<std::uint8_t> wall_distance = distanceToWalls(e);
+  auto sigmaAt = [&](double range) { return std::hypot(o.range_sigma, o.range_sigma_rel * range); };
   std::vector<WeakReturn> weak;
   for (const LaserScan& scan : log.scans)
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
@@ -317,7 +344,8 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       const std::int64_t id = e.candidate(cell);
       if (id < 0) return;
       const auto c = static_cast<std::size_t>(id);
-      if (near_wall[cell] || passes[c] < static_cast<std::uint32_t>(o.min_through) ||
+      const double clearance = std::max(o.wall_clearance, 3.0 * sigmaAt(beam.range));
+      if (wall_distance[cell] * g.resolution / 3.0 <= clearance || passes[c] < static_cast<std::uint32_t>(o.min_through) ||
           hits[c] > o.max_hit_ratio * static_cast<double>(hits[c] + passes[c]))
         return;
       const double normal = beam.angle - kPi * std::floor(beam.angle / kPi);
@@ -464,7 +492,8 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
 
   // Glass is crossed: most beams that meet the run pass it and end well beyond.
   std::vector<std::uint64_t> pass, hit;
-  countCrossings(log, beams, runs, tol_r, beyond, pass, hit);
+  countCrossings(
+      log, beams, runs, tol_r, [&](double range) { return std::max(o.beyond, 5.0 * sigmaAt(range)); }, pass, hit);
   std::vector<Run> seen_through;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const double total = static_cast<double>(pass[r] + hit[r]);
@@ -475,7 +504,7 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     seen_through.push_back(std::move(runs[r]));
   }
 
-  // Not a mirror image: the labels with every candidate drawn in as glass.
+  // Not seen through another pane: the labels with every candidate drawn in as glass.
   CellEvidence panes;
   panes.geometry = g;
   panes.bins = e.bins;
@@ -488,8 +517,8 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     });
   }
   for (const Run& run : seen_through) {
-    if (isMirrorImage(weak, run, panes, o)) {
-      ++stats.rejected_mirror;
+    if (seenThroughAnotherPane(weak, run, panes, o)) {
+      ++stats.rejected_through;
       continue;
     }
     ++stats.panes;

@@ -184,6 +184,7 @@ bool applyProfile(MapOptions& o, const SensorProfile& p) {
   set(o.mapping.beams.miss_margin, defaults.mapping.beams.miss_margin,
       std::max(defaults.mapping.beams.miss_margin, 3.0 * sigma));
   set(o.sparse.range_sigma, defaults.sparse.range_sigma, sigma);
+  set(o.sparse.range_sigma_rel, defaults.sparse.range_sigma_rel, p.range_sigma_rel.value);
   set(o.phantom.glass_margin, defaults.phantom.glass_margin, std::max(defaults.phantom.glass_margin, 3.0 * sigma));
   set(o.phantom.block_margin, defaults.phantom.block_margin, std::max(defaults.phantom.block_margin, 6.0 * sigma));
   set(o.vectorize.noise_floor, defaults.vectorize.noise_floor, std::max(defaults.vectorize.noise_floor, sigma / res));

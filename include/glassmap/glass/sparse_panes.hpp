@@ -12,8 +12,10 @@
 ///    number of lines and runs tried: fewer than one false alarm expected);
 ///  - the beams that meet the run mostly pass it and end well beyond (glass, not the front of a wall
 ///    whose returns range noise spreads over two cells);
-///  - its returns are not a mirror image another pane folded (the image of a wall seen through a
-///    pane at the wall's normal has the same signature, behind the pane).
+///  - its returns did not come through another pane: beyond a pane, a mirror image it folded (the
+///    image of a wall seen via the pane at the wall's normal has the same signature) and a wall seen
+///    through it at grazing incidence (shifted sideways by the pane, it lands in front of itself)
+///    look like faint panes. (A faint pane seen only through another is therefore not found.)
 /// Found panes are drawn into the labels (glass along the run, on cells labelled empty).
 
 #include <cstddef>
@@ -28,7 +30,7 @@ struct SparsePaneOptions {
   double through_margin = 0.3;    ///< a beam passes a cell when it returns at least this far beyond it [m]
   int min_through = 3;            ///< a weak return's cell is passed by at least this many beams
   double max_hit_ratio = 0.5;     ///< ...and returns at most this share of the beams that reach it
-  double wall_clearance = 0.1;    ///< returns this close to an occupied cell are not weak [m] (at least 3 sigma)
+  double wall_clearance = 0.1;    ///< returns this close to an occupied cell are not weak [m] (at least 3 sigma(r))
   double angle_tol_deg = 3.0;     ///< a return belongs to a line when its beam is this close to the normal [deg]
   double offset_tol = 0.1;        ///< ...and it lies this close to the line [m] (at least 2.5 range sigma)
   double specific_tol_deg = 10.0; ///< a cell counts for a line when most of its returns came this close
@@ -39,11 +41,12 @@ struct SparsePaneOptions {
   double background_margin = 1.0; ///< chance is judged against the density of weak returns this close [m]
   double log10_max_nfa = 0.0;     ///< a run is a pane when log10(expected false alarms) is below this
   double min_transmission = 0.5;  ///< share of the beams meeting the run that pass it and end beyond
-  double beyond = 0.3;            ///< ...at least this far past the line [m] (at least 5 range sigma)
-  double glass_margin = 0.15;     ///< mirror test: a pane crossed this far before the return [m]
-  double mirror_margin = 0.30;    ///< ...and the return this far beyond it [m]
-  double max_folded = 0.5;        ///< a run is a phantom when this share of its returns is folded
-  double range_sigma = 0.0;       ///< the laser's range noise [m] (widens offset_tol and beyond)
+  double beyond = 0.3;            ///< ...at least this far past the line [m] (at least 5 sigma(r))
+  double glass_margin = 0.15;     ///< a return crossed another pane when it did this far before it [m]
+  int min_pane_cells = 4;         ///< ...in a glass cell with this many glass cells in its 5 x 5 block
+  double max_via = 0.5;           ///< a run is not a pane when this share of its returns crossed another
+  double range_sigma = 0.0;       ///< the laser's range noise [m]: sigma(r) = hypot(range_sigma,
+  double range_sigma_rel = 0.0;   ///< range_sigma_rel r) widens offset_tol, wall_clearance and beyond
 };
 
 /// What the search did.
@@ -53,7 +56,7 @@ struct SparsePaneStats {
   std::size_t panes = 0;            ///< runs accepted as panes
   std::size_t rejected_chance = 0;  ///< runs that chance explains (a contrario)
   std::size_t rejected_opaque = 0;  ///< runs the beams do not pass (a wall's front)
-  std::size_t rejected_mirror = 0;  ///< runs folded by another pane (phantoms)
+  std::size_t rejected_through = 0;  ///< runs seen through another pane (mirror images, shifted walls)
   std::size_t cells_labelled = 0;   ///< empty cells relabelled glass
   double metres = 0.0;              ///< total length of the panes found [m]
 };
