@@ -45,16 +45,46 @@ struct Run {
   Vec2 end(double s) const { return line.rho * line.normal() + s * line.tangent(); }
 };
 
-// Difference of two normal angles modulo pi, in [-pi/2, pi/2].
-double angleDiff(double a, double b) { return std::remainder(a - b, kPi); }
+// An angle modulo pi, in [0, pi).
+double wrapPi(double a) { return a - kPi * std::floor(a / kPi); }
+
+// Difference of two normal angles in [0, pi), modulo pi: in [-pi/2, pi/2].
+double angleDiff(double a, double b) {
+  const double d = a - b;
+  return d > 0.5 * kPi ? d - kPi : (d < -0.5 * kPi ? d + kPi : d);
+}
 
 // Returns and passes per candidate cell: a pass is a returned beam that crosses the cell and ends
 // at least `margin` beyond it.
+// Candidate number of every cell, held in 16 x 16 tiles allocated where candidates are.
+class CandidateIndex {
+ public:
+  explicit CandidateIndex(const CellEvidence& e)
+      : g_(e.geometry), tiles_x_((g_.width + 15) / 16), tiles_(static_cast<std::size_t>(tiles_x_) * ((g_.height + 15) / 16)) {
+    for (std::size_t i = 0; i < e.cells.size(); ++i) {
+      const grid::CellIndex c = g_.cellOf(e.cells[i]);
+      auto& tile = tiles_[tileOf(c.x, c.y)];
+      if (tile.empty()) tile.assign(256, -1);
+      tile[static_cast<std::size_t>(((c.y & 15) << 4) | (c.x & 15))] = static_cast<std::int32_t>(i);
+    }
+  }
+  /// Candidate number of cell (x, y) inside the grid, or -1.
+  std::int32_t find(int x, int y) const {
+    const auto& tile = tiles_[tileOf(x, y)];
+    return tile.empty() ? -1 : tile[static_cast<std::size_t>(((y & 15) << 4) | (x & 15))];
+  }
+
+ private:
+  std::size_t tileOf(int x, int y) const { return static_cast<std::size_t>(y >> 4) * tiles_x_ + (x >> 4); }
+  const grid::GridGeometry& g_;
+  std::size_t tiles_x_;
+  std::vector<std::vector<std::int32_t>> tiles_;
+};
+
 void countPasses(const LaserLog& log, const grid::BeamOptions& beams, const CellEvidence& e, double margin,
                  std::vector<std::uint32_t>& hits, std::vector<std::uint32_t>& passes) {
   const grid::GridGeometry& g = e.geometry;
-  std::vector<bool> is_candidate(g.cells(), false);
-  for (std::uint32_t c : e.cells) is_candidate[c] = true;
+  const CandidateIndex index(e);
   struct Tally {
     std::vector<std::uint32_t> hits, passes;
   };
@@ -68,9 +98,9 @@ void countPasses(const LaserLog& log, const grid::BeamOptions& beams, const Cell
         if (!beam.hit) return;
         const double pass_until = beam.range - margin;
         grid::traverse(g, beam.from, beam.to, [&](int x, int y, double enter, bool last) {
-          const std::size_t i = g.index(x, y);
-          if (!is_candidate[i]) return;
-          const auto c = static_cast<std::size_t>(e.candidate(static_cast<std::uint32_t>(i)));
+          const std::int32_t id = index.find(x, y);
+          if (id < 0) return;
+          const auto c = static_cast<std::size_t>(id);
           if (last)
             ++t.hits[c];
           else if (enter * beam.range < pass_until)
@@ -206,10 +236,11 @@ Line fitLine(const std::vector<WeakReturn>& w, const std::vector<std::size_t>& i
   }
   const double axis = 0.5 * std::atan2(2.0 * sxy, sxx - syy);  // direction of the major axis
   const double spread = 0.5 * (sxx + syy) + std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
-  const double pca_normal = axis + 0.5 * kPi;
+  const double pca_normal = wrapPi(axis + 0.5 * kPi);
+  angle = wrapPi(angle);
   if (std::sqrt(spread / n) > 0.3 && std::abs(angleDiff(pca_normal, angle)) <= tol_a) angle = pca_normal;
   Line line;
-  line.angle = angle - kPi * std::floor(angle / kPi);
+  line.angle = angle;
   std::vector<double> rho;
   rho.reserve(idx.size());
   const Vec2 nn = line.normal();
@@ -219,15 +250,29 @@ Line fitLine(const std::vector<WeakReturn>& w, const std::vector<std::size_t>& i
   return line;
 }
 
-// Runs of returns `idx` along `line`, split at gaps over max_gap.
+// Runs of returns `idx` along `line`, split at gaps over max_gap, or over gap_factor times the
+// median spacing of the cells the returns fill along the line (a pane's ends are where its returns
+// stop; a stray return a metre on would otherwise stretch it).
 std::vector<Run> splitRuns(const std::vector<WeakReturn>& w, std::vector<std::size_t> idx, const Line& line,
-                           double max_gap) {
+                           double cell, double max_gap, double gap_factor) {
   const Vec2 t = line.tangent();
   std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return t.dot(w[a].at) < t.dot(w[b].at); });
+  std::vector<double> filled;  // cells along the line that hold returns
+  for (std::size_t i : idx) {
+    const double q = std::floor(t.dot(w[i].at) / cell);
+    if (filled.empty() || q != filled.back()) filled.push_back(q);
+  }
+  std::vector<double> gaps;
+  for (std::size_t k = 1; k < filled.size(); ++k) gaps.push_back(filled[k] - filled[k - 1]);
+  double split = max_gap;
+  if (!gaps.empty()) {
+    std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2), gaps.end());
+    split = std::min(max_gap, cell * std::max(3.0, gap_factor * gaps[gaps.size() / 2]));
+  }
   std::vector<Run> runs;
   for (std::size_t i : idx) {
     const double s = t.dot(w[i].at);
-    if (runs.empty() || s - runs.back().s1 > max_gap) runs.push_back(Run{line, s, s, {}});
+    if (runs.empty() || s - runs.back().s1 > split) runs.push_back(Run{line, s, s, {}});
     runs.back().s1 = s;
     runs.back().returns.push_back(i);
   }
@@ -339,7 +384,7 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
   std::vector<WeakReturn> weak;
   for (const LaserScan& scan : log.scans)
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (!beam.hit) return;
+      if (!beam.hit || beam.range < o.min_range) return;
       const auto cell = static_cast<std::uint32_t>(g.index(g.cellAt(beam.to)));
       const std::int64_t id = e.candidate(cell);
       if (id < 0) return;
@@ -348,8 +393,7 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       if (wall_distance[cell] * g.resolution / 3.0 <= clearance || passes[c] < static_cast<std::uint32_t>(o.min_through) ||
           hits[c] > o.max_hit_ratio * static_cast<double>(hits[c] + passes[c]))
         return;
-      const double normal = beam.angle - kPi * std::floor(beam.angle / kPi);
-      weak.push_back({beam.to, beam.from, std::min(normal, std::nextafter(kPi, 0.0)), cell});
+      weak.push_back({beam.to, beam.from, std::min(wrapPi(beam.angle), std::nextafter(kPi, 0.0)), cell});
     });
   stats.weak_returns = weak.size();
   if (weak.size() < static_cast<std::size_t>(o.min_returns)) return stats;
@@ -474,7 +518,7 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
                              [&](std::size_t i) { return !specific(weak[i].cell, line.angle); }),
               idx.end());
     const double p = background(line);
-    for (Run& run : splitRuns(weak, idx, line, o.max_gap)) {
+    for (Run& run : splitRuns(weak, idx, line, g.resolution, o.max_gap, o.gap_factor)) {
       if (run.returns.size() < static_cast<std::size_t>(o.min_returns) || run.s1 - run.s0 < o.min_length) continue;
       ++stats.runs_tested;
       std::vector<std::uint32_t> cells;

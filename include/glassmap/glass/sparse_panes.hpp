@@ -27,6 +27,7 @@ namespace glassmap::glass {
 
 /// Parameters of the sparse-pane search.
 struct SparsePaneOptions {
+  double min_range = 0.3;         ///< nearer returns are not weak returns (dust, the robot itself) [m]
   double through_margin = 0.3;    ///< a beam passes a cell when it returns at least this far beyond it [m]
   int min_through = 3;            ///< a weak return's cell is passed by at least this many beams
   double max_hit_ratio = 0.5;     ///< ...and returns at most this share of the beams that reach it
@@ -35,7 +36,8 @@ struct SparsePaneOptions {
   double offset_tol = 0.1;        ///< ...and it lies this close to the line [m] (at least 2.5 range sigma)
   double specific_tol_deg = 10.0; ///< a cell counts for a line when most of its returns came this close
   double min_specific = 0.6;      ///< ...to the line's normal: this share [deg, fraction]
-  double max_gap = 1.0;           ///< a run of returns along a line breaks at a longer gap [m]
+  double max_gap = 1.0;           ///< a run of returns along a line breaks at a longer gap [m],
+  double gap_factor = 6.0;        ///< ...or one longer than this many median gaps between its cells
   double min_length = 0.3;        ///< shorter runs are not panes [m]
   int min_returns = 5;            ///< fewer returns are not a pane
   double background_margin = 1.0; ///< chance is judged against the density of weak returns this close [m]
