@@ -117,11 +117,15 @@ void run(MapArgs& args) {
     if (options.prune_unfitted_glass)
       std::printf("%-22s %zu glass cells off every glass segment relabelled\n", "pane fit", result.pruned_glass);
     if (options.sparse_panes)
-      std::printf("%-22s %zu found, %.1f m (%zu runs of %zu weak returns tested; rejected: %zu chance, %zu opaque, "
-                  "%zu through another pane)\n",
-                  "sparse panes", result.sparse.panes, result.sparse.metres, result.sparse.runs_tested,
-                  result.sparse.weak_returns, result.sparse.rejected_chance, result.sparse.rejected_opaque,
-                  result.sparse.rejected_through);
+      std::printf(
+          "%-22s %zu found, %.1f m (%zu runs of %zu weak returns tested; rejected: %zu chance, %zu opaque, "
+          "%zu through another pane)\n",
+          "sparse panes", result.sparse.panes, result.sparse.metres, result.sparse.runs_tested,
+          result.sparse.weak_returns, result.sparse.rejected_chance, result.sparse.rejected_opaque,
+          result.sparse.rejected_through);
+    if (options.opaque_glass)
+      std::printf("%-22s %zu of %zu glass cells relabelled (the beams crossing them stop just behind)\n",
+                  "opaque glass", result.opaque.relabelled, result.opaque.glass_cells);
     if (options.phantoms)
       std::printf("%-22s %zu cells cleared (%zu of %zu beams through glass folded)\n", "mirror phantoms",
                   phantom.cells_cleared, phantom.folded_beams, phantom.beams_through_glass);
@@ -130,9 +134,10 @@ void run(MapArgs& args) {
                   floorplan.map.count(Material::Wall));
     std::printf(
         "%-22s %.2f (read %.2f, calibration %.2f; last pass: counts %.2f, angles %.2f, classify %.2f, mrf %.2f, "
-        "sparse panes %.2f, phantoms %.2f, vectorize %.2f)\n",
+        "sparse panes %.2f, opaque %.2f, phantoms %.2f, vectorize %.2f)\n",
         "seconds", seconds, seconds_read, result.seconds.calibration, st.seconds_counts, st.seconds_angles,
-        st.seconds_classify, refined.seconds, result.seconds.sparse, result.seconds.phantoms, floorplan.stats.seconds);
+        st.seconds_classify, refined.seconds, result.seconds.sparse, result.seconds.opaque, result.seconds.phantoms,
+        floorplan.stats.seconds);
     std::printf("%-22s %.1f MB\n", "peak memory", static_cast<double>(peak) / 1e6);
     std::printf("%-22s %s/{map.yaml,map.pgm,labels.tif,map.png,sensor.yaml,stats.json%s}\n", "wrote",
                 dir.string().c_str(), args.vectorize ? ",floorplan.{gpkg,geojson,dxf,svg,png}" : "");
@@ -184,6 +189,10 @@ const cli::Registrar reg(40, [](CLI::App& app) {
                 "beams cross, each along a beam nearly normal to the line they form, are grouped by line votes;\n"
                 "a run along a line is drawn as glass when chance does not explain it (a contrario), the beams\n"
                 "meeting it mostly pass it, and it is not a mirror image folded by another pane");
+  cmd->add_flag("!--keep-opaque-glass", args->options.opaque_glass,
+                "keep glass cells the beams do not pass: by default, a glass cell whose crossing beams mostly\n"
+                "stop within max(0.3 m, 5 range sigma) behind its pane (the front of a wall seen at grazing\n"
+                "incidence) takes its best non-glass label");
   cmd->add_flag("!--keep-phantoms", args->options.phantoms,
                 "keep mirror phantoms: by default, wall and glass cells whose returns mostly ran straight\n"
                 "through a pane and then through a wall (impossible unless the pane folded the beam) become unknown");

@@ -76,6 +76,15 @@ MapResult mapOnce(const LaserLog& log, const MapOptions& options, const Progress
     report("sparse", 1.0);
   }
 
+  // Glass is crossed: glass cells whose crossing beams stop just behind them are something's front.
+  if (options.opaque_glass) {
+    report("opaque", 0.0);
+    const auto to = std::chrono::steady_clock::now();
+    out.opaque = glass::relabelOpaqueGlass(log, mapping.beams, options.opaque, out.evidence);
+    out.seconds.opaque = secondsSince(to);
+    report("opaque", 1.0);
+  }
+
   // Mirror phantoms: cells drawn by beams a pane folded.
   if (options.phantoms) {
     report("phantoms", 0.0);
@@ -185,6 +194,8 @@ bool applyProfile(MapOptions& o, const SensorProfile& p) {
       std::max(defaults.mapping.beams.miss_margin, 3.0 * sigma));
   set(o.sparse.range_sigma, defaults.sparse.range_sigma, sigma);
   set(o.sparse.range_sigma_rel, defaults.sparse.range_sigma_rel, p.range_sigma_rel.value);
+  set(o.opaque.range_sigma, defaults.opaque.range_sigma, sigma);
+  set(o.opaque.range_sigma_rel, defaults.opaque.range_sigma_rel, p.range_sigma_rel.value);
   set(o.phantom.glass_margin, defaults.phantom.glass_margin, std::max(defaults.phantom.glass_margin, 3.0 * sigma));
   set(o.phantom.block_margin, defaults.phantom.block_margin, std::max(defaults.phantom.block_margin, 6.0 * sigma));
   set(o.vectorize.noise_floor, defaults.vectorize.noise_floor, std::max(defaults.vectorize.noise_floor, sigma / res));

@@ -79,10 +79,11 @@ TEST(SparsePanes, FindsPanesTheClassifiersMissWithAWeakLaser) {
   so.range_sigma_rel = 0.01;
   const SparsePaneStats s = findSparsePanes(log, o.beams, so, e);
   const GlassCount after = countGlass(e, {0.0, 2.4}, 2, 14);
-  std::printf("classifier: %zu pane cells, %zu elsewhere; sparse panes: %zu (%.1f m), %zu pane cells, %zu elsewhere "
-              "(%zu weak returns, %zu runs; rejected %zu chance, %zu opaque, %zu through another pane)\n",
-              before.on, before.off, s.panes, s.metres, after.on, after.off, s.weak_returns, s.runs_tested,
-              s.rejected_chance, s.rejected_opaque, s.rejected_through);
+  std::printf(
+      "classifier: %zu pane cells, %zu elsewhere; sparse panes: %zu (%.1f m), %zu pane cells, %zu elsewhere "
+      "(%zu weak returns, %zu runs; rejected %zu chance, %zu opaque, %zu through another pane)\n",
+      before.on, before.off, s.panes, s.metres, after.on, after.off, s.weak_returns, s.runs_tested, s.rejected_chance,
+      s.rejected_opaque, s.rejected_through);
   // Two panes of 12 m: 240 cells each along their lines.
   EXPECT_LT(before.on, 100u);
   EXPECT_GT(after.on, 400u);
@@ -106,9 +107,10 @@ TEST(SparsePanes, DrawsNothingWithoutGlass) {
   so.range_sigma = 0.03;
   so.range_sigma_rel = 0.01;
   const SparsePaneStats s = findSparsePanes(log, o.beams, so, e);
-  std::printf("glass-free floor: %zu weak returns, %zu runs tested; rejected %zu chance, %zu opaque, %zu through another pane; "
-              "%zu panes\n",
-              s.weak_returns, s.runs_tested, s.rejected_chance, s.rejected_opaque, s.rejected_through, s.panes);
+  std::printf(
+      "glass-free floor: %zu weak returns, %zu runs tested; rejected %zu chance, %zu opaque, %zu through another pane; "
+      "%zu panes\n",
+      s.weak_returns, s.runs_tested, s.rejected_chance, s.rejected_opaque, s.rejected_through, s.panes);
   EXPECT_GT(s.runs_tested, 0u);  // there was something to reject
   EXPECT_EQ(s.panes, 0u);
   EXPECT_EQ(e.countGlass(), before);

@@ -27,40 +27,40 @@ namespace glassmap::glass {
 
 /// Parameters of the sparse-pane search.
 struct SparsePaneOptions {
-  double min_range = 0.3;         ///< nearer returns are not weak returns (dust, the robot itself) [m]
-  double through_margin = 0.3;    ///< a beam passes a cell when it returns at least this far beyond it [m]
-  int min_through = 3;            ///< a weak return's cell is passed by at least this many beams
-  double max_hit_ratio = 0.5;     ///< ...and returns at most this share of the beams that reach it
-  double wall_clearance = 0.1;    ///< returns this close to an occupied cell are not weak [m] (at least 3 sigma(r))
-  double angle_tol_deg = 3.0;     ///< a return belongs to a line when its beam is this close to the normal [deg]
-  double offset_tol = 0.1;        ///< ...and it lies this close to the line [m] (at least 2.5 range sigma)
-  double specific_tol_deg = 10.0; ///< a cell counts for a line when most of its returns came this close
-  double min_specific = 0.6;      ///< ...to the line's normal: this share [deg, fraction]
-  double max_gap = 1.0;           ///< a run of returns along a line breaks at a longer gap [m],
-  double gap_factor = 6.0;        ///< ...or one longer than this many median gaps between its cells
-  double min_length = 0.3;        ///< shorter runs are not panes [m]
-  int min_returns = 5;            ///< fewer returns are not a pane
-  double background_margin = 1.0; ///< chance is judged against the density of weak returns this close [m]
-  double log10_max_nfa = 0.0;     ///< a run is a pane when log10(expected false alarms) is below this
-  double min_transmission = 0.5;  ///< share of the beams meeting the run that pass it and end beyond
-  double beyond = 0.3;            ///< ...at least this far past the line [m] (at least 5 sigma(r))
-  double glass_margin = 0.15;     ///< a return crossed another pane when it did this far before it [m]
-  int min_pane_cells = 4;         ///< ...in a glass cell with this many glass cells in its 5 x 5 block
-  double max_via = 0.5;           ///< a run is not a pane when this share of its returns crossed another
-  double range_sigma = 0.0;       ///< the laser's range noise [m]: sigma(r) = hypot(range_sigma,
-  double range_sigma_rel = 0.0;   ///< range_sigma_rel r) widens offset_tol, wall_clearance and beyond
+  double min_range = 0.3;          ///< nearer returns are not weak returns (dust, the robot itself) [m]
+  double through_margin = 0.3;     ///< a beam passes a cell when it returns at least this far beyond it [m]
+  int min_through = 3;             ///< a weak return's cell is passed by at least this many beams
+  double max_hit_ratio = 0.5;      ///< ...and returns at most this share of the beams that reach it
+  double wall_clearance = 0.1;     ///< returns this close to an occupied cell are not weak [m] (at least 3 sigma(r))
+  double angle_tol_deg = 3.0;      ///< a return belongs to a line when its beam is this close to the normal [deg]
+  double offset_tol = 0.1;         ///< ...and it lies this close to the line [m] (at least 2.5 range sigma)
+  double specific_tol_deg = 10.0;  ///< a cell counts for a line when most of its returns came this close
+  double min_specific = 0.6;       ///< ...to the line's normal: this share [deg, fraction]
+  double max_gap = 1.0;            ///< a run of returns along a line breaks at a longer gap [m],
+  double gap_factor = 6.0;         ///< ...or one longer than this many median gaps between its cells
+  double min_length = 0.3;         ///< shorter runs are not panes [m]
+  int min_returns = 5;             ///< fewer returns are not a pane
+  double background_margin = 1.0;  ///< chance is judged against the density of weak returns this close [m]
+  double log10_max_nfa = 0.0;      ///< a run is a pane when log10(expected false alarms) is below this
+  double min_transmission = 0.5;   ///< share of the beams meeting the run that pass it and end beyond
+  double beyond = 0.3;             ///< ...at least this far past the line [m] (at least 5 sigma(r))
+  double glass_margin = 0.15;      ///< a return crossed another pane when it did this far before it [m]
+  int min_pane_cells = 4;          ///< ...in a glass cell with this many glass cells in its 5 x 5 block
+  double max_via = 0.5;            ///< a run is not a pane when this share of its returns crossed another
+  double range_sigma = 0.0;        ///< the laser's range noise [m]: sigma(r) = hypot(range_sigma,
+  double range_sigma_rel = 0.0;    ///< range_sigma_rel r) widens offset_tol, wall_clearance and beyond
 };
 
 /// What the search did.
 struct SparsePaneStats {
-  std::size_t weak_returns = 0;     ///< returns from cells most beams pass
-  std::size_t runs_tested = 0;      ///< runs of weak returns along a voted line
-  std::size_t panes = 0;            ///< runs accepted as panes
-  std::size_t rejected_chance = 0;  ///< runs that chance explains (a contrario)
-  std::size_t rejected_opaque = 0;  ///< runs the beams do not pass (a wall's front)
+  std::size_t weak_returns = 0;      ///< returns from cells most beams pass
+  std::size_t runs_tested = 0;       ///< runs of weak returns along a voted line
+  std::size_t panes = 0;             ///< runs accepted as panes
+  std::size_t rejected_chance = 0;   ///< runs that chance explains (a contrario)
+  std::size_t rejected_opaque = 0;   ///< runs the beams do not pass (a wall's front)
   std::size_t rejected_through = 0;  ///< runs seen through another pane (mirror images, shifted walls)
-  std::size_t cells_labelled = 0;   ///< empty cells relabelled glass
-  double metres = 0.0;              ///< total length of the panes found [m]
+  std::size_t cells_labelled = 0;    ///< empty cells relabelled glass
+  double metres = 0.0;               ///< total length of the panes found [m]
 };
 
 /// Finds sparse panes in the beams of `log` (as the mapping used them) and draws them into

@@ -2,7 +2,7 @@
 /// The whole mapping pipeline as one call (DESIGN.md, "The pipeline"):
 ///
 ///   log -> grid counts and per-angle statistics -> cell classifier (paper 2.5.3 / 2.5.4)
-///       -> MRF (2.5.5) -> sparse panes -> mirror-phantom test -> vectorization -> pane fit of the cells
+///       -> MRF (2.5.5) -> sparse panes -> opaque glass -> mirror-phantom test -> vectorization -> pane fit of the cells
 ///
 /// The command line (`glassmap map`), the tests and the bench call this; each step's own module
 /// holds its options and its code.
@@ -15,6 +15,7 @@
 #include "glassmap/core/laser_scan.hpp"
 #include "glassmap/core/sensor_profile.hpp"
 #include "glassmap/glass/mapping.hpp"
+#include "glassmap/glass/opaque_glass.hpp"
 #include "glassmap/glass/phantoms.hpp"
 #include "glassmap/glass/sparse_panes.hpp"
 #include "glassmap/mrf/refine.hpp"
@@ -38,7 +39,9 @@ struct MapOptions {
   mrf::RefineOptions mrf;         ///< used when method == Mrf
   bool sparse_panes = true;       ///< look for panes too faint for the cell classifiers (glass/sparse_panes.hpp)
   glass::SparsePaneOptions sparse;
-  bool phantoms = true;           ///< run the mirror-phantom test
+  bool opaque_glass = true;  ///< glass cells the beams do not pass take a non-glass label (glass/opaque_glass.hpp)
+  glass::OpaqueGlassOptions opaque;
+  bool phantoms = true;  ///< run the mirror-phantom test
   glass::PhantomOptions phantom;
   bool fit_floorplan = true;         ///< vectorize the labels into a floorplan
   bool prune_unfitted_glass = true;  ///< glass cells no fitted pane explains take their best other
@@ -75,7 +78,8 @@ bool applyProfile(MapOptions& options, const SensorProfile& profile);
 /// Wall-clock time of each step [s].
 struct MapTimes {
   double counts = 0.0, angles = 0.0, classify = 0.0;  ///< grid passes and classifier
-  double mrf = 0.0, sparse = 0.0, phantoms = 0.0;     ///< later steps (0 when skipped)
+  double mrf = 0.0, sparse = 0.0, opaque = 0.0;       ///< later steps (0 when skipped)
+  double phantoms = 0.0;                              ///< mirror phantoms (0 when skipped)
   double vectorize = 0.0;                             ///< vectorization (0 when skipped)
   double calibration = 0.0;                           ///< first passes and profile fits (0 when skipped)
   double total = 0.0;                                 ///< the whole call
@@ -87,6 +91,7 @@ struct MapResult {
   glass::MappingStats stats;              ///< grid and classifier figures; glass/occupied counts are final
   mrf::RefineResult mrf;                  ///< MRF figures (zero unless method == Mrf)
   glass::SparsePaneStats sparse;          ///< sparse-pane figures (zero when skipped)
+  glass::OpaqueGlassStats opaque;         ///< opaque-glass figures (zero when skipped)
   glass::PhantomStats phantoms;           ///< mirror-phantom figures (zero when skipped)
   vector::VectorizeResult floorplan;      ///< the fitted floorplan (empty unless fitted)
   bool has_floorplan = false;             ///< the floorplan was fitted
@@ -98,7 +103,7 @@ struct MapResult {
 };
 
 /// progress(stage, fraction): "counts" and "angles" report fractions in [0, 1]; "mrf",
-/// "sparse", "phantoms", "vectorize" and "calibrate" report 0 when they start and 1 when they end.
+/// "sparse", "opaque", "phantoms", "vectorize" and "calibrate" report 0 when they start and 1 when they end.
 using Progress = std::function<void(const char* stage, double fraction)>;
 
 /// Maps a log with the laser poses of its scans. Throws Error for bad options or a log with no

@@ -1,0 +1,41 @@
+#pragma once
+/// Glass is crossed. A cell labelled glass must be passed by beams that end well beyond its pane;
+/// where the beams that cross it stop just behind it, it is the front of something opaque: a wall
+/// whose returns range noise spreads over the cells in front of it, seen at grazing incidence, has
+/// the hit-from-one-angle signature the glass classifiers look for. Such cells take their best
+/// non-glass label.
+///
+/// For every beam that crosses a glass cell (ends beyond it, not in it), the reading's distance past
+/// the pane's line (the cell's normal bin) decides: at least `beyond` (or a no-return reading) is a
+/// pass; less is a stop. A glass cell with at least min_crossings crossings of which fewer than
+/// min_transmission passed is opaque.
+
+#include <cstddef>
+
+#include "glassmap/glass/evidence.hpp"
+#include "glassmap/grid/scan_integration.hpp"
+
+namespace glassmap::glass {
+
+/// Parameters of the transmission test.
+struct OpaqueGlassOptions {
+  double beyond = 0.3;            ///< a pass ends at least this far past the pane [m] (at least 5 sigma(r))
+  double min_transmission = 0.5;  ///< glass passes at least this share of the beams that cross it
+  int min_crossings = 5;          ///< fewer crossings decide nothing
+  double range_sigma = 0.0;       ///< the laser's range noise: sigma(r) = hypot(range_sigma,
+  double range_sigma_rel = 0.0;   ///< range_sigma_rel r) [m, -]
+};
+
+/// What the test did.
+struct OpaqueGlassStats {
+  std::size_t glass_cells = 0;  ///< glass cells tested
+  std::size_t decided = 0;      ///< ...with at least min_crossings crossings
+  std::size_t relabelled = 0;   ///< ...found opaque and relabelled
+};
+
+/// Relabels the opaque glass cells of `evidence` (see above) by their least-cost non-glass label
+/// (empty when the cell has no costs), using the beams of `log` as the mapping used them.
+OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions& beams,
+                                    const OpaqueGlassOptions& options, CellEvidence& evidence);
+
+}  // namespace glassmap::glass

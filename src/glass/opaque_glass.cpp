@@ -1,0 +1,85 @@
+#include "glassmap/glass/opaque_glass.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "glassmap/grid/traversal.hpp"
+
+namespace glassmap::glass {
+
+OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions& beams, const OpaqueGlassOptions& o,
+                                    CellEvidence& e) {
+  OpaqueGlassStats stats;
+  const grid::GridGeometry& g = e.geometry;
+  // Glass cells get a slot; the pane normal of each from its label's angle bin.
+  std::vector<bool> is_glass(g.cells(), false);
+  std::vector<std::size_t> cells;  // ascending
+  std::vector<Vec2> normals;
+  for (std::size_t i = 0; i < g.cells(); ++i) {
+    if (!isGlass(e.label[i])) continue;
+    is_glass[i] = true;
+    cells.push_back(i);
+    const double a = glassBin(e.label[i]) * kPi / e.bins;  // bin b is centred on b * 180 / bins
+    normals.emplace_back(std::cos(a), std::sin(a));
+  }
+  stats.glass_cells = cells.size();
+  if (cells.empty()) return stats;
+
+  // Per thread: passes and stops per glass cell. Integer sums: the result does not depend on how
+  // the scans were shared out.
+  struct Tally {
+    std::vector<std::uint32_t> pass, stop;
+  };
+  tbb::enumerable_thread_specific<Tally> tallies([&] {
+    return Tally{std::vector<std::uint32_t>(cells.size(), 0), std::vector<std::uint32_t>(cells.size(), 0)};
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, log.scans.size(), 16), [&](const auto& range) {
+    Tally& t = tallies.local();
+    for (std::size_t s = range.begin(); s != range.end(); ++s)
+      grid::forEachBeam(log.scans[s], beams, [&](const grid::Beam& beam) {
+        const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
+        const double beyond = std::max(o.beyond, 5.0 * sigma);
+        const Vec2 dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
+        grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
+          if (last) return;  // a return in the cell itself is the classifiers' evidence
+          const std::size_t i = g.index(x, y);
+          if (!is_glass[i]) return;
+          const auto c = static_cast<std::size_t>(std::lower_bound(cells.begin(), cells.end(), i) - cells.begin());
+          const Vec2 n = dir.dot(normals[c]) >= 0.0 ? normals[c] : Vec2(-normals[c]);
+          const double past = n.dot(beam.to - g.center(x, y));
+          ++(!beam.hit || past >= beyond ? t.pass[c] : t.stop[c]);
+        });
+      });
+  });
+  std::vector<std::uint32_t> pass(cells.size(), 0), stop(cells.size(), 0);
+  for (const Tally& t : tallies)
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      pass[c] += t.pass[c];
+      stop[c] += t.stop[c];
+    }
+
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const double crossings = static_cast<double>(pass[c] + stop[c]);
+    if (crossings < o.min_crossings) continue;
+    ++stats.decided;
+    if (static_cast<double>(pass[c]) >= o.min_transmission * crossings) continue;
+    const std::size_t i = cells[c];
+    const std::int64_t id = e.candidate(static_cast<std::uint32_t>(i));
+    std::uint8_t best = kEmpty;
+    if (id >= 0) {
+      const float* cost = e.costs(static_cast<std::size_t>(id));
+      best = cost[kOccupied] < cost[kEmpty] ? kOccupied : kEmpty;
+    }
+    e.label[i] = best;
+    ++stats.relabelled;
+  }
+  return stats;
+}
+
+}  // namespace glassmap::glass

@@ -1,0 +1,192 @@
+#include "weak_returns.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "glassmap/grid/traversal.hpp"
+
+namespace glassmap::glass::sparse {
+namespace {
+
+// Candidate number of every cell, held in 16 x 16 tiles allocated where candidates are.
+class CandidateIndex {
+ public:
+  explicit CandidateIndex(const CellEvidence& e)
+      : g_(e.geometry),
+        tiles_x_((g_.width + 15) / 16),
+        tiles_(static_cast<std::size_t>(tiles_x_) * ((g_.height + 15) / 16)) {
+    for (std::size_t i = 0; i < e.cells.size(); ++i) {
+      const grid::CellIndex c = g_.cellOf(e.cells[i]);
+      auto& tile = tiles_[tileOf(c.x, c.y)];
+      if (tile.empty()) tile.assign(256, -1);
+      tile[static_cast<std::size_t>(((c.y & 15) << 4) | (c.x & 15))] = static_cast<std::int32_t>(i);
+    }
+  }
+  /// Candidate number of cell (x, y) inside the grid, or -1.
+  std::int32_t find(int x, int y) const {
+    const auto& tile = tiles_[tileOf(x, y)];
+    return tile.empty() ? -1 : tile[static_cast<std::size_t>(((y & 15) << 4) | (x & 15))];
+  }
+
+ private:
+  std::size_t tileOf(int x, int y) const { return static_cast<std::size_t>(y >> 4) * tiles_x_ + (x >> 4); }
+  const grid::GridGeometry& g_;
+  std::size_t tiles_x_;
+  std::vector<std::vector<std::int32_t>> tiles_;
+};
+
+// Returns and passes per candidate cell: a pass is a returned beam that crosses the cell and ends
+// at least `margin` beyond it.
+void countPasses(const LaserLog& log, const grid::BeamOptions& beams, const CellEvidence& e, double margin,
+                 std::vector<std::uint32_t>& hits, std::vector<std::uint32_t>& passes) {
+  const grid::GridGeometry& g = e.geometry;
+  const CandidateIndex index(e);
+  struct Tally {
+    std::vector<std::uint32_t> hits, passes;
+  };
+  tbb::enumerable_thread_specific<Tally> tallies([&] {
+    return Tally{std::vector<std::uint32_t>(e.cells.size(), 0), std::vector<std::uint32_t>(e.cells.size(), 0)};
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, log.scans.size(), 16), [&](const auto& range) {
+    Tally& t = tallies.local();
+    for (std::size_t s = range.begin(); s != range.end(); ++s)
+      grid::forEachBeam(log.scans[s], beams, [&](const grid::Beam& beam) {
+        if (!beam.hit) return;
+        const double pass_until = beam.range - margin;
+        grid::traverse(g, beam.from, beam.to, [&](int x, int y, double enter, bool last) {
+          const std::int32_t id = index.find(x, y);
+          if (id < 0) return;
+          const auto c = static_cast<std::size_t>(id);
+          if (last)
+            ++t.hits[c];
+          else if (enter * beam.range < pass_until)
+            ++t.passes[c];
+        });
+      });
+  });
+  hits.assign(e.cells.size(), 0);
+  passes.assign(e.cells.size(), 0);
+  for (const Tally& t : tallies)
+    for (std::size_t i = 0; i < e.cells.size(); ++i) {
+      hits[i] += t.hits[i];
+      passes[i] += t.passes[i];
+    }
+}
+
+// Chamfer distance (3 per cell step, 4 per diagonal step, capped at 255) of every cell to the
+// nearest occupied cell.
+std::vector<std::uint8_t> distanceToWalls(const CellEvidence& e) {
+  const grid::GridGeometry& g = e.geometry;
+  std::vector<std::uint8_t> d(g.cells(), 255);
+  for (std::size_t i = 0; i < d.size(); ++i)
+    if (e.label[i] == kOccupied) d[i] = 0;
+  auto relax = [&](int x, int y, int dx, int dy, int cost) {
+    if (!g.contains(x + dx, y + dy)) return;
+    std::uint8_t& here = d[g.index(x, y)];
+    here = static_cast<std::uint8_t>(std::min<int>(here, d[g.index(x + dx, y + dy)] + cost));
+  };
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      relax(x, y, -1, 0, 3);
+      relax(x, y, 0, -1, 3);
+      relax(x, y, -1, -1, 4);
+      relax(x, y, 1, -1, 4);
+    }
+  for (int y = g.height - 1; y >= 0; --y)
+    for (int x = g.width - 1; x >= 0; --x) {
+      relax(x, y, 1, 0, 3);
+      relax(x, y, 0, 1, 3);
+      relax(x, y, 1, 1, 4);
+      relax(x, y, -1, 1, 4);
+    }
+  return d;
+}
+
+}  // namespace
+
+WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, const SparsePaneOptions& o,
+                         const CellEvidence& e)
+    : bins_(kAngleBins), cells_per_bin_(kAngleBins, 0.0) {
+  const grid::GridGeometry& g = e.geometry;
+  std::vector<std::uint32_t> hits, passes;
+  countPasses(log, beams, e, o.through_margin, hits, passes);
+  // Distance to the nearest occupied cell: the ends and corners of walls, seen past from most
+  // directions and hit from a few, and the noise-spread front of a wall seen at grazing incidence
+  // look like faint panes too.
+  const std::vector<std::uint8_t> wall_distance = distanceToWalls(e);
+  for (const LaserScan& scan : log.scans)
+    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
+      if (!beam.hit || beam.range < o.min_range) return;
+      const auto cell = static_cast<std::uint32_t>(g.index(g.cellAt(beam.to)));
+      const std::int64_t id = e.candidate(cell);
+      if (id < 0) return;
+      const auto c = static_cast<std::size_t>(id);
+      const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
+      const double clearance = std::max(o.wall_clearance, 3.0 * sigma);
+      if (wall_distance[cell] * g.resolution / 3.0 <= clearance ||
+          passes[c] < static_cast<std::uint32_t>(o.min_through) ||
+          hits[c] > o.max_hit_ratio * static_cast<double>(hits[c] + passes[c]))
+        return;
+      returns_.push_back({beam.to, beam.from, std::min(wrapPi(beam.angle), std::nextafter(kPi, 0.0)), cell});
+    });
+
+  // By angle bin; per bin, the cells holding returns of that bin.
+  std::vector<std::pair<std::uint32_t, int>> cell_bins;
+  for (std::size_t i = 0; i < returns_.size(); ++i) {
+    const int b = angleBinOf(returns_[i].normal);
+    bins_[static_cast<std::size_t>(b)].push_back(i);
+    cell_bins.emplace_back(returns_[i].cell, b);
+  }
+  std::sort(cell_bins.begin(), cell_bins.end());
+  cell_bins.erase(std::unique(cell_bins.begin(), cell_bins.end()), cell_bins.end());
+  for (const auto& cb : cell_bins) cells_per_bin_[static_cast<std::size_t>(cb.second)] += 1.0;
+  observed_ = std::max(1.0, static_cast<double>(e.countObserved()));
+  // By cell.
+  by_cell_.resize(returns_.size());
+  for (std::size_t i = 0; i < returns_.size(); ++i) by_cell_[i] = i;
+  std::stable_sort(by_cell_.begin(), by_cell_.end(),
+                   [&](std::size_t a, std::size_t b) { return returns_[a].cell < returns_[b].cell; });
+}
+
+template <class Fn>
+void WeakReturns::forCell(std::uint32_t cell, Fn&& fn) const {
+  auto it = std::lower_bound(by_cell_.begin(), by_cell_.end(), cell,
+                             [&](std::size_t i, std::uint32_t c) { return returns_[i].cell < c; });
+  for (; it != by_cell_.end() && returns_[*it].cell == cell; ++it)
+    if (!fn(returns_[*it])) return;
+}
+
+bool WeakReturns::specific(std::uint32_t cell, double normal, double tol, double share) const {
+  std::size_t all = 0, near = 0;
+  forCell(cell, [&](const WeakReturn& r) {
+    ++all;
+    near += std::abs(angleDiff(r.normal, normal)) <= tol;
+    return true;
+  });
+  return static_cast<double>(near) >= share * static_cast<double>(all);
+}
+
+bool WeakReturns::compatible(std::uint32_t cell, double normal, double tol) const {
+  bool found = false;
+  forCell(cell, [&](const WeakReturn& r) {
+    found = std::abs(angleDiff(r.normal, normal)) <= tol;
+    return !found;
+  });
+  return found;
+}
+
+double WeakReturns::background(double normal, int pad) const {
+  const int centre = angleBinOf(normal);
+  double sum = 0.0;
+  for (int d = -pad; d <= pad; ++d)
+    sum += cells_per_bin_[static_cast<std::size_t>(((centre + d) % kAngleBins + kAngleBins) % kAngleBins)];
+  return std::min(1.0, sum / observed_);
+}
+
+}  // namespace glassmap::glass::sparse

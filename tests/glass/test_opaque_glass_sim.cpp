@@ -1,0 +1,70 @@
+// Glass is crossed (glass/opaque_glass.hpp): on a simulated corridor, glass cells on the real panes
+// stay and glass drawn on the face of a wall is relabelled.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "glassmap/glass/mapping.hpp"
+#include "glassmap/glass/opaque_glass.hpp"
+#include "glassmap/sim/simulator.hpp"
+
+namespace glassmap::glass {
+namespace {
+
+TEST(OpaqueGlass, GlassOnAWallFaceIsRelabelledAndRealPanesStay) {
+  // A corridor: glass at y = 0 with a room behind it, a wall at y = 2.4 (noisy laser).
+  sim::Scene scene;
+  VectorMap& m = scene.map;
+  m.add({0, 0}, {12, 0}, Material::Glass);
+  m.add({0, 2.4}, {12, 2.4}, Material::Wall);
+  m.add({-1, -5}, {13, -5}, Material::Wall);
+  m.add({-1, -5}, {-1, 2.4}, Material::Wall);
+  m.add({13, -5}, {13, 2.4}, Material::Wall);
+  scene.trajectory.waypoints = {{0.5, 1.2}, {11.5, 1.2}};
+  scene.laser.rate = 10.0;
+  scene.laser.range_sigma = 0.03;
+  const LaserLog log = sim::simulate(scene).log;
+  MappingOptions o;
+  o.method = Method::Direct;
+  MappingResult mapped = mapLog(log, o);
+  CellEvidence& e = mapped.evidence;
+  const grid::GridGeometry& g = e.geometry;
+  // Draw glass (normal along y: bin 18 of 36) on the free cells just in front of the wall, as a
+  // classifier fooled by the wall's noise-spread hits would.
+  const int wall_row = g.cellAt(Vec2(0, 2.4)).y;
+  std::size_t drawn = 0;
+  for (int x = g.cellAt(Vec2(1, 0)).x; x <= g.cellAt(Vec2(11, 0)).x; ++x) {
+    for (int y = wall_row - 2; y <= wall_row; ++y) {
+      std::uint8_t& l = e.label[g.index(x, y)];
+      if (l != kEmpty) continue;
+      l = static_cast<std::uint8_t>(glassLabel(18));
+      ++drawn;
+      break;
+    }
+  }
+  auto count = [&](double lo, double hi) {
+    std::size_t n = 0;
+    for (int y = 0; y < g.height; ++y)
+      for (int x = 0; x < g.width; ++x) {
+        const Vec2 c = g.center(x, y);
+        n += isGlass(e.label[g.index(x, y)]) && c.y() >= lo && c.y() <= hi && c.x() > 1 && c.x() < 11;
+      }
+    return n;
+  };
+  const std::size_t pane_before = count(-0.15, 0.15), face_before = count(2.0, 2.5);
+  OpaqueGlassOptions oo;
+  oo.range_sigma = 0.03;
+  const OpaqueGlassStats s = relabelOpaqueGlass(log, o.beams, oo, e);
+  const std::size_t pane_after = count(-0.15, 0.15), face_after = count(2.0, 2.5);
+  std::printf(
+      "pane glass %zu -> %zu, glass on the wall face %zu (drawn %zu) -> %zu; %zu of %zu decided, %zu relabelled\n",
+      pane_before, pane_after, face_before, drawn, face_after, s.decided, s.glass_cells, s.relabelled);
+  EXPECT_GT(pane_before, 150u);
+  EXPECT_GE(pane_after, pane_before * 95 / 100);
+  EXPECT_GT(face_before, 150u);
+  EXPECT_LT(face_after, face_before / 10);
+}
+
+}  // namespace
+}  // namespace glassmap::glass
