@@ -37,6 +37,7 @@ struct Run {
   Line line;
   double s0 = 0.0, s1 = 0.0;
   std::vector<std::size_t> returns;
+  double log10_nfa = 0.0;  // expected false alarms of a run like it, log10
   Vec2 end(double s) const { return line.rho * line.normal() + s * line.tangent(); }
 };
 
@@ -371,10 +372,9 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       std::sort(cells.begin(), cells.end());
       const int k = static_cast<int>(std::unique(cells.begin(), cells.end()) - cells.begin());
       const int n = static_cast<int>(std::ceil(((run.s1 - run.s0) / g.resolution + 1.0) * band_cells));
-      if (log10_tests +
-              log10BinomialTail(
-                  k, n, std::max(p, localBackground(weak_returns, e, run, o.background_margin, tol_r, tol_a))) >=
-          o.log10_max_nfa) {
+      const double background = std::max(p, localBackground(weak_returns, e, run, o.background_margin, tol_r, tol_a));
+      run.log10_nfa = log10_tests + log10BinomialTail(k, n, background);
+      if (run.log10_nfa >= o.log10_max_nfa) {
         ++stats.rejected_chance;
         continue;
       }

@@ -120,9 +120,12 @@ WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, co
   // directions and hit from a few, and the noise-spread front of a wall seen at grazing incidence
   // look like faint panes too.
   const std::vector<std::uint8_t> wall_distance = distanceToWalls(e);
-  for (const LaserScan& scan : log.scans)
+  for (const LaserScan& scan : log.scans) {
+    // Beyond this range a beam is wider than max_footprint cells: a cell's returns and passes then
+    // mix the surfaces the beam grazes.
+    const double max_range = o.max_footprint * g.resolution / std::max(std::abs(scan.angular_step), 1e-6);
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (!beam.hit || beam.range < o.min_range) return;
+      if (!beam.hit || beam.range < o.min_range || beam.range > max_range) return;
       const auto cell = static_cast<std::uint32_t>(g.index(g.cellAt(beam.to)));
       const std::int64_t id = e.candidate(cell);
       if (id < 0) return;
@@ -135,6 +138,7 @@ WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, co
         return;
       returns_.push_back({beam.to, beam.from, std::min(wrapPi(beam.angle), std::nextafter(kPi, 0.0)), cell});
     });
+  }
 
   // By angle bin; per bin, the cells holding returns of that bin.
   std::vector<std::pair<std::uint32_t, int>> cell_bins;
