@@ -9,6 +9,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "glass_tiles.hpp"
 #include "glassmap/grid/traversal.hpp"
 
 namespace glassmap::glass {
@@ -39,10 +40,12 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   tbb::enumerable_thread_specific<Tally> tallies([&] {
     return Tally{std::vector<std::uint32_t>(cells.size(), 0), std::vector<std::uint32_t>(cells.size(), 0)};
   });
+  const detail::GlassTiles tiles(e);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, log.scans.size(), 16), [&](const auto& range) {
     Tally& t = tallies.local();
     for (std::size_t s = range.begin(); s != range.end(); ++s)
       grid::forEachBeam(log.scans[s], beams, [&](const grid::Beam& beam) {
+        if (!tiles.near(beam.from, beam.to)) return;
         const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
         const double beyond = std::max(o.beyond, 5.0 * sigma);
         const Vec2 dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);

@@ -8,6 +8,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "glass_tiles.hpp"
 #include "glassmap/grid/traversal.hpp"
 
 namespace glassmap::glass {
@@ -88,22 +89,7 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
   if (e.countGlass() == 0 || e.cells.empty()) return stats;
   const grid::GridGeometry& g = e.geometry;
 
-  // Tiles of kTile x kTile cells that hold glass (grown by one tile against rounding): a beam
-  // whose coarse walk meets none of them cannot cross a pane, and most beams of a floor never do.
-  constexpr int kTile = 16;
-  grid::GridGeometry coarse;
-  coarse.resolution = g.resolution * kTile;
-  coarse.origin = g.origin;
-  coarse.width = (g.width + kTile - 1) / kTile;
-  coarse.height = (g.height + kTile - 1) / kTile;
-  std::vector<std::uint8_t> glass_tile(static_cast<std::size_t>(coarse.width) * coarse.height, 0);
-  for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x) {
-      if (!isGlass(e.label[g.index(x, y)])) continue;
-      for (int ty = y / kTile - 1; ty <= y / kTile + 1; ++ty)
-        for (int tx = x / kTile - 1; tx <= x / kTile + 1; ++tx)
-          if (coarse.contains(tx, ty)) glass_tile[coarse.index(tx, ty)] = 1;
-    }
+  const detail::GlassTiles tiles(e);
 
   // Per thread: returns and folded returns per candidate cell, beam counts. Integer sums, so the
   // result does not depend on how the scans were shared out.
@@ -127,12 +113,7 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
         const std::int64_t c = e.candidate(static_cast<std::uint32_t>(g.index(end)));
         if (c < 0) return;
         ++tally.returns[static_cast<std::size_t>(c)];
-        bool near_glass = false;
-        grid::traverse(coarse, beam.from, beam.to, [&](int x, int y, double, bool) {
-          near_glass = glass_tile[coarse.index(x, y)] != 0;
-          return !near_glass;
-        });
-        if (!near_glass) return;
+        if (!tiles.near(beam.from, beam.to)) return;
         const double glass_until = beam.range - options.glass_margin;
         const double block_until = beam.range - options.block_margin;
         bool through_glass = false, is_folded = false;

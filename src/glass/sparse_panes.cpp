@@ -409,6 +409,16 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       if (panes.label[i] == kEmpty) panes.label[i] = l;
     });
   }
+  // Where the classifiers found the pane already, their cells stand: a second line of glass beside
+  // them (a cell off) would make a band the vectorizer fits between the two.
+  const std::vector<std::uint8_t> classified = e.label;
+  auto nearClassifiedGlass = [&](std::size_t i) {
+    const grid::CellIndex c = g.cellOf(i);
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx)
+        if (g.contains(c.x + dx, c.y + dy) && isGlass(classified[g.index(c.x + dx, c.y + dy)])) return true;
+    return false;
+  };
   for (const Run& run : seen_through) {
     if (seenThroughAnotherPane(weak, run, panes, o)) {
       ++stats.rejected_through;
@@ -418,7 +428,7 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     stats.metres += run.s1 - run.s0;
     const auto l = static_cast<std::uint8_t>(glassLabel(grid::angleBin(run.line.angle, e.bins)));
     forRunCells(g, run, [&](std::size_t i) {
-      if (e.label[i] != kEmpty) return;
+      if (e.label[i] != kEmpty || nearClassifiedGlass(i)) return;
       e.label[i] = l;
       ++stats.cells_labelled;
     });
