@@ -184,11 +184,12 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_flag("!--keep-unfitted-glass", args->options.prune_unfitted_glass,
                 "keep glass cells that no fitted glass segment explains: by default they take their best\n"
                 "non-glass label (people walking by leave arcs of cells that each look like glass)");
-  cmd->add_flag("!--no-sparse-panes", args->options.sparse_panes,
-                "do not look for panes too faint for the cell classifiers: by default, returns from cells most\n"
-                "beams cross, each along a beam nearly normal to the line they form, are grouped by line votes;\n"
-                "a run along a line is drawn as glass when chance does not explain it (a contrario), the beams\n"
-                "meeting it mostly pass it, and it is not a mirror image folded by another pane");
+  cmd->add_flag("--sparse-panes", args->options.sparse_panes,
+                "also look for panes too faint for the cell classifiers (a laser whose glass returns rarely,\n"
+                "only near the normal): returns from cells most beams cross, each along a beam nearly normal to\n"
+                "the line they form, are grouped by line votes; a run along a line is drawn as glass when chance\n"
+                "does not explain it (a contrario), the beams meeting it mostly pass it, and its returns did not\n"
+                "come through another pane. Off by default: people crossing in front of the robot look alike");
   cmd->add_flag("!--keep-opaque-glass", args->options.opaque_glass,
                 "keep glass cells the beams do not pass: by default, a glass cell whose crossing beams mostly\n"
                 "stop within max(0.3 m, 5 range sigma) behind its pane (the front of a wall seen at grazing\n"

@@ -11,7 +11,8 @@ Scenes (positional): bundled scene names (maps/<name>), `glass-room@ANGLE` (the 
 room of maps/glass-room turned ANGLE degrees, drawn by maps/make_floorplans.py), or scene files.
 Modes (--modes): default (`glassmap map` as is: calibrated, MRF), direct (`--method direct`),
 uncalibrated (`--no-calibrate`), oracle (`--sensor truth.yaml --profile-lobe`: the simulated laser's
-own numbers), raw (the default without the phantom test and the pane fit of the cells).
+own numbers), raw (the default without the phantom test and the pane fit of the cells), sparse
+(`--sparse-panes`: the search for panes too faint for the classifiers), direct-sparse (both).
 
 Usage: tools/sensor_sweep.py [--build build] [--seed 1] [--rate 10] [--out out/sensor_sweep]
          [--profiles a,b] [--modes default,direct] [-j 2] [scene ...]
@@ -32,7 +33,8 @@ SCENES = ["paper-corridor", "glass-corridor", "office-floor", "no-glass", "glass
 MODES = ["default", "direct", "uncalibrated", "oracle"]
 MODE_ARGS = {"default": [], "direct": ["--method", "direct"], "uncalibrated": ["--no-calibrate"],
              "oracle": ["--profile-lobe"], "lobe": ["--profile-lobe"], "raw": ["--keep-phantoms", "--keep-unfitted-glass"],
-             "direct-raw": ["--method", "direct", "--keep-phantoms", "--keep-unfitted-glass"]}
+             "direct-raw": ["--method", "direct", "--keep-phantoms", "--keep-unfitted-glass"],
+             "sparse": ["--sparse-panes"], "direct-sparse": ["--method", "direct", "--sparse-panes"]}
 # Lasers that are no named profile: scene keys laid over the scene's laser and glass.
 CUSTOM = {
     "noisy-fine": {"laser": "{preset: hokuyo-utm30lx, rate: 10, resolution_deg: 0.25, range_sigma: 0.03, "

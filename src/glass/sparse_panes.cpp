@@ -37,7 +37,8 @@ struct Run {
   Line line;
   double s0 = 0.0, s1 = 0.0;
   std::vector<std::size_t> returns;
-  double log10_nfa = 0.0;  // expected false alarms of a run like it, log10
+  double log10_nfa = 0.0;     // expected false alarms of a run like it, log10
+  double transmission = 0.0;  // share of the beams meeting it that passed
   Vec2 end(double s) const { return line.rho * line.normal() + s * line.tangent(); }
 };
 
@@ -133,7 +134,7 @@ Line fitLine(const std::vector<WeakReturn>& w, const std::vector<std::size_t>& i
   const double spread = 0.5 * (sxx + syy) + std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
   const double pca_normal = wrapPi(axis + 0.5 * kPi);
   angle = wrapPi(angle);
-  if (std::sqrt(spread / n) > 0.3 && std::abs(angleDiff(pca_normal, angle)) <= tol_a) angle = pca_normal;
+  if (std::sqrt(spread / n) > 0.3 && std::abs(angleDiff(pca_normal, angle)) <= 2.0 * tol_a) angle = pca_normal;
   Line line;
   line.angle = angle;
   std::vector<double> rho;
@@ -394,6 +395,7 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       ++stats.rejected_opaque;
       continue;
     }
+    runs[r].transmission = static_cast<double>(pass[r]) / total;
     seen_through.push_back(std::move(runs[r]));
   }
 
@@ -426,6 +428,7 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     }
     ++stats.panes;
     stats.metres += run.s1 - run.s0;
+    stats.found.push_back({run.end(run.s0), run.end(run.s1), run.returns.size(), run.log10_nfa, run.transmission});
     const auto l = static_cast<std::uint8_t>(glassLabel(grid::angleBin(run.line.angle, e.bins)));
     forRunCells(g, run, [&](std::size_t i) {
       if (e.label[i] != kEmpty || nearClassifiedGlass(i)) return;

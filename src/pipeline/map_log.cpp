@@ -263,6 +263,7 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
         seg.b += local.offset;
       }
     for (DoorOpening& d : out.floorplan.extras.doors) d.a += local.offset, d.b += local.offset;
+    for (glass::SparsePane& p : out.sparse.found) p.a += local.offset, p.b += local.offset;
     for (RoomPolygon& r : out.floorplan.extras.rooms)
       for (Vec2& p : r.ring) p += local.offset;
   }

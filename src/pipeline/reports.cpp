@@ -13,6 +13,18 @@
 namespace glassmap::pipeline {
 namespace {
 
+// The panes of the sparse-pane search: ends [m], returns, log10 NFA, transmission.
+nlohmann::json sparsePanesJson(const std::vector<glass::SparsePane>& panes) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const glass::SparsePane& p : panes)
+    j.push_back({{"a", {p.a.x(), p.a.y()}},
+                 {"b", {p.b.x(), p.b.y()}},
+                 {"returns", p.returns},
+                 {"log10_nfa", p.log10_nfa},
+                 {"transmission", p.transmission}});
+  return j;
+}
+
 // The profile's fitted numbers in the order profileJson lists them.
 std::vector<std::pair<const char*, Estimate SensorProfile::*>> profileFields() {
   return {{"range_sigma_m", &SensorProfile::range_sigma_m},
@@ -223,7 +235,8 @@ nlohmann::json mapStatsJson(const MapResult& result, const MapOptions& options, 
                         {"cells_labelled", result.sparse.cells_labelled},
                         {"rejected_chance", result.sparse.rejected_chance},
                         {"rejected_opaque", result.sparse.rejected_opaque},
-                        {"rejected_through", result.sparse.rejected_through}}},
+                        {"rejected_through", result.sparse.rejected_through},
+                        {"found", sparsePanesJson(result.sparse.found)}}},
                       {"opaque_glass",
                        {{"glass_cells", result.opaque.glass_cells},
                         {"decided", result.opaque.decided},

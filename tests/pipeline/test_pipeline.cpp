@@ -59,6 +59,7 @@ TEST(Pipeline, DefaultsRunEveryStepAndFindTheGlass) {
   const MapResult& r = defaultMap();
   EXPECT_GT(r.mrf.active_cells, 0u);
   EXPECT_GT(r.phantoms.beams_through_glass, 0u);
+  EXPECT_GT(r.opaque.glass_cells, 0u);
   ASSERT_TRUE(r.has_floorplan);
   EXPECT_GT(r.floorplan.map.count(Material::Glass), 0u);
   EXPECT_GT(r.floorplan.map.count(Material::Wall), 0u);
@@ -85,6 +86,8 @@ TEST(Pipeline, IsTheChainOfItsStagesInOrder) {
   applyProfile(defaults, r.profile);
   glass::MappingResult m = glass::mapLog(log, defaults.mapping);
   mrf::refine(m.evidence, defaults.mrf);
+  if (defaults.sparse_panes) glass::findSparsePanes(log, defaults.mapping.beams, defaults.sparse, m.evidence);
+  glass::relabelOpaqueGlass(log, defaults.mapping.beams, defaults.opaque, m.evidence);
   glass::suppressMirrorPhantoms(log, defaults.mapping.beams, defaults.phantom, m.evidence);
   const vector::VectorizeResult v = vector::vectorize(vector::toLabelGrid(m.evidence), defaults.vectorize);
   const std::size_t pruned = vector::pruneUnfittedGlass(m.evidence, v.map, defaults.prune_tolerance);
@@ -102,11 +105,14 @@ TEST(Pipeline, StepsCanBeSwitchedOff) {
   MapOptions o;
   o.method = MapMethod::Direct;
   o.phantoms = false;
+  o.opaque_glass = false;
   o.fit_floorplan = false;
   o.prune_unfitted_glass = false;
   const MapResult bare = mapLog(log, o);
   EXPECT_EQ(bare.mrf.active_cells, 0u);
   EXPECT_EQ(bare.phantoms.beams_through_glass, 0u);
+  EXPECT_EQ(bare.opaque.glass_cells, 0u);
+  EXPECT_EQ(bare.sparse.weak_returns, 0u);  // off by default
   EXPECT_FALSE(bare.has_floorplan);
   EXPECT_TRUE(bare.floorplan.map.segments.empty());
   EXPECT_EQ(bare.pruned_glass, 0u);

@@ -19,6 +19,7 @@
 /// Found panes are drawn into the labels (glass along the run, on cells labelled empty).
 
 #include <cstddef>
+#include <vector>
 
 #include "glassmap/glass/evidence.hpp"
 #include "glassmap/grid/scan_integration.hpp"
@@ -56,6 +57,14 @@ struct SparsePaneOptions {
   double range_sigma_rel = 0.0;   ///< range_sigma_rel r) widens offset_tol, wall_clearance and beyond
 };
 
+/// A pane the search found.
+struct SparsePane {
+  Vec2 a, b;                  ///< ends of its run [m]
+  std::size_t returns = 0;    ///< weak returns along it
+  double log10_nfa = 0.0;     ///< log10 of the false alarms expected of a run like it
+  double transmission = 0.0;  ///< share of the beams meeting it that passed
+};
+
 /// What the search did.
 struct SparsePaneStats {
   std::size_t weak_returns = 0;      ///< returns from cells most beams pass
@@ -66,6 +75,7 @@ struct SparsePaneStats {
   std::size_t rejected_through = 0;  ///< runs seen through another pane (mirror images, shifted walls)
   std::size_t cells_labelled = 0;    ///< empty cells relabelled glass
   double metres = 0.0;               ///< total length of the panes found [m]
+  std::vector<SparsePane> found;     ///< the panes, in the order found
 };
 
 /// Finds sparse panes in the beams of `log` (as the mapping used them) and draws them into
