@@ -297,8 +297,8 @@ void ParticleFilter::organise() {
     }
   }
   // A probe's places may not lead while they explain the scans worse than tracking usually does,
-  // nor jump a trusted estimate elsewhere without a break in the scans (or a long doubt): its mass
-  // is held just under the best of the others.
+  // nor jump an estimate tracked from a known start elsewhere without a break in the scans (or a
+  // long doubt): its mass is held just under the best of the others.
   double lead_other = -std::numeric_limits<double>::infinity();
   const Hypothesis* tracked = nullptr;
   for (const Hypothesis& h : hyps_)
@@ -323,11 +323,10 @@ void ParticleFilter::organise() {
       }
     }
   }
-  // Prune: empty, far below the best, probes past their life, beyond the count (the lightest after
-  // the hold above: a probe split into max_hypotheses places must not push the tracked estimate out).
-  std::stable_sort(hyps_.begin(), hyps_.end(), [](const Hypothesis& a, const Hypothesis& b) {
-    return a.log_mass > b.log_mass || (a.log_mass == b.log_mass && a.id < b.id);
-  });
+  // Prune: empty, far below the best, probes past their life, beyond the count (but never the
+  // tracked estimate: a probe split into max_hypotheses places, heavier before the hold above,
+  // would push it out of the filter).
+  const std::uint64_t tracked_id = tracked ? tracked->id : 0;
   double top = -std::numeric_limits<double>::infinity();
   for (const Hypothesis& h : hyps_)
     if (!h.particles.empty()) top = std::max(top, h.log_mass);
@@ -338,7 +337,7 @@ void ParticleFilter::organise() {
     // first scans pay for the whole floor it samples.
     const bool dead = h.particles.empty() || (!h.broad && h.log_mass < top - opt_.prune_nats) ||
                       (h.probe && !is_top && travelled_ - h.born_m > opt_.probe_life_m) ||
-                      kept.size() >= static_cast<std::size_t>(opt_.max_hypotheses);
+                      (kept.size() >= static_cast<std::size_t>(opt_.max_hypotheses) && h.id != tracked_id);
     if (!dead) {
       kept.push_back(std::move(h));
     } else if (h.probe && !h.particles.empty()) {

@@ -273,11 +273,10 @@ void ParticleFilter::resetConsistency() {
 }
 
 bool ParticleFilter::guarded() const {
-  // A robot tracked from a known start (or a global start that has been trusted) is kidnapped
-  // only by a break in its scans; before that, a global start's likely error is a look-alike
-  // place, which its scans cannot tell.
-  return opt_.recovery == Recovery::Probe &&
-         (!global_start_ || (converged_at_m_ >= 0 && travelled_ - converged_at_m_ >= opt_.trust_after_m));
+  // A robot tracked from a known start is lost by a kidnapping (or an odometry jump), which its
+  // scans show as a break. After a global start the likely error is a look-alike place, which no
+  // break tells; the rechecks and probes there are as before.
+  return opt_.recovery == Recovery::Probe && !global_start_;
 }
 
 bool ParticleFilter::licensed(const Hypothesis& probe) const {

@@ -15,10 +15,10 @@
 /// be lost (the likelihood drops below its long-run average, or readings run through walls the
 /// model cannot explain), a probe (a broad hypothesis of random particles) starts beside the
 /// tracked one with a small prior mass, and takes over only if the scans that follow favour it by
-/// more than that prior (a sequential likelihood-ratio test); otherwise it dies out. A place far
-/// from a trusted estimate also needs the scans to say the robot jumped (a break: ScanConsistency)
-/// or to have out-explained the estimate over metres: clutter lined up with other walls elsewhere
-/// fits for a room, a kidnapped robot's scans contradict its odometry.
+/// more than that prior (a sequential likelihood-ratio test); otherwise it dies out. When tracking
+/// from a known start, a place far from the estimate also needs the scans to say the robot jumped
+/// (a break: ScanConsistency) or to have out-explained the estimate over metres: clutter lined up
+/// with other walls elsewhere fits for a room, a kidnapped robot's scans contradict its odometry.
 
 #include <cstdint>
 #include <optional>
@@ -102,8 +102,9 @@ struct FilterOptions {
                                            ///< update, in proportion below: scans from nearly the same pose
                                            ///< repeat the same clutter and map errors, not new evidence [m]
   ScanConsistencyOptions consistency;      ///< a break in the scans: they contradict the odometry
-  double break_memory_m = 2.0;             ///< a probe may replace a trusted estimate only when the scans broke
-                                           ///< at most this much travel before it started, or since [m] ...
+  double break_memory_m = 2.0;             ///< tracking from a known start (initialize()), a probe may lead only
+                                           ///< when the scans broke at most this much travel before it
+                                           ///< started, or since [m] ...
   double doubt_after_m = 4.0;              ///< ... or it out-explained the estimate over this much travel [m]:
                                            ///< a robot in clutter has scans that agree with its odometry,
                                            ///< a kidnapped one has not; a place that lines the clutter up
