@@ -110,6 +110,8 @@ void run(const LocalizeArgs& a) {
     std::printf("%-18s %12zu  (random particles drawn: global start, probes)\n", "injected", r.injected);
     std::printf("%-18s %12zu  (looks for the robot elsewhere when the scans stopped fitting)\n", "probes", r.probes);
     std::printf("%-18s %12zu  (jumps of the estimate to another hypothesis)\n", "relocalizations", r.relocalizations);
+    std::printf("%-18s %12zu  (scans that contradict the one before them: kidnapped, or the odometry jumped)\n",
+                "breaks", r.breaks);
     const sensor::SensorParams& p = r.final_params;
     const double sum = p.z_hit + p.z_short + p.z_max + p.z_rand;
     std::printf(

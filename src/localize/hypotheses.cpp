@@ -249,6 +249,7 @@ void ParticleFilter::organise() {
       c.broad = false;
       c.probe = h.probe;
       c.fit = h.fit;
+      c.held_m = h.held_m;
       c.born_m = h.born_m;
       c.id = m == 0 ? h.id : next_id_++;
       std::vector<double> member_lu;
@@ -290,19 +291,42 @@ void ParticleFilter::organise() {
       for (const Particle& p : b.particles) a.particles.push_back({p.pose, p.log_w + b.log_mass - total});
       a.log_mass = total;
       a.probe = a.probe && b.probe;
+      a.held_m = std::max(a.held_m, b.held_m);
       b.particles.clear();
       detail::summarise(a);
     }
   }
-  // A probe's places may not lead while they explain the scans worse than tracking usually does:
-  // its mass is held just under the best of the others.
+  // A probe's places may not lead while they explain the scans worse than tracking usually does,
+  // nor jump an estimate tracked from a known start elsewhere without a break in the scans (or a
+  // long doubt): its mass is held just under the best of the others.
   double lead_other = -std::numeric_limits<double>::infinity();
+  const Hypothesis* tracked = nullptr;
   for (const Hypothesis& h : hyps_)
-    if (!h.probe && !h.particles.empty()) lead_other = std::max(lead_other, h.log_mass);
-  if (std::isfinite(lead_other) && w_slow_ > 0)
-    for (Hypothesis& h : hyps_)
-      if (h.probe && h.fit < opt_.probe_fit * w_slow_) h.log_mass = std::min(h.log_mass, lead_other - 1.0);
-  // Prune: empty, far below the best, probes past their life, beyond the count.
+    if (!h.probe && !h.particles.empty() && h.log_mass > lead_other) {
+      lead_other = h.log_mass;
+      tracked = &h;
+    }
+  if (std::isfinite(lead_other) && w_slow_ > 0) {
+    const Pose2 at = tracked->estimate;
+    for (Hypothesis& h : hyps_) {
+      if (!h.probe) continue;
+      const bool fits = h.fit >= opt_.probe_fit * w_slow_;
+      // A place near the tracked estimate is a correction the odometry could have needed, not a jump.
+      const bool near = !h.broad && (h.estimate.t - at.t).norm() <= opt_.jump_m &&
+                        std::abs(angleDiff(h.estimate.theta, at.theta)) <= opt_.jump_heading;
+      if (fits && !near && guarded() && !licensed(h)) {
+        // Held back by the guard alone: the travel over which it gained on the tracked estimate.
+        if (!h.broad && h.log_mass > lead_other - 1.0) h.held_m += step_m_;
+        if (!licensed(h)) h.log_mass = std::min(h.log_mass, lead_other - 1.0);
+      } else if (!fits) {
+        h.log_mass = std::min(h.log_mass, lead_other - 1.0);
+      }
+    }
+  }
+  // Prune: empty, far below the best, probes past their life, beyond the count (but never the
+  // tracked estimate: a probe split into max_hypotheses places, heavier before the hold above,
+  // would push it out of the filter).
+  const std::uint64_t tracked_id = tracked ? tracked->id : 0;
   double top = -std::numeric_limits<double>::infinity();
   for (const Hypothesis& h : hyps_)
     if (!h.particles.empty()) top = std::max(top, h.log_mass);
@@ -313,7 +337,7 @@ void ParticleFilter::organise() {
     // first scans pay for the whole floor it samples.
     const bool dead = h.particles.empty() || (!h.broad && h.log_mass < top - opt_.prune_nats) ||
                       (h.probe && !is_top && travelled_ - h.born_m > opt_.probe_life_m) ||
-                      kept.size() >= static_cast<std::size_t>(opt_.max_hypotheses);
+                      (kept.size() >= static_cast<std::size_t>(opt_.max_hypotheses) && h.id != tracked_id);
     if (!dead) {
       kept.push_back(std::move(h));
     } else if (h.probe && !h.particles.empty()) {

@@ -67,8 +67,9 @@ LocalizeResult localizeLog(const LaserLog& log, sensor::SensorModel& model, cons
         filter.predict(delta);
       }
       const sensor::BeamSet beams = sensor::makeBeamSet(scan, options.beams);
+      const sensor::BeamSet whole = sensor::makeBeamSet(scan, 0);  // the scans compared with each other
       particle_sum += static_cast<double>(filter.size());
-      if (filter.correct(beams)) ++result.resamplings;
+      if (filter.correct(beams, &whole)) ++result.resamplings;
       result.injected += filter.lastInjected();
       ++result.updates;
       odom_at_update = odom;
@@ -101,6 +102,7 @@ LocalizeResult localizeLog(const LaserLog& log, sensor::SensorModel& model, cons
   }
   result.relocalizations = filter.relocalizations();
   result.probes = filter.probes();
+  result.breaks = filter.breaks();
   result.final_params = model.params();
   // Converged for good: one tight hypothesis holding all but a negligible mass (a spread cloud,
   // or rival places still alive, is not) from some scan to the end. Never a confident answer

@@ -45,7 +45,11 @@ std::size_t kldBound(std::size_t bins, double epsilon, double z) {
 }
 
 ParticleFilter::ParticleFilter(const sensor::SensorModel& model, FilterOptions options)
-    : model_(model), opt_(options), rng_(options.seed), walls_(wallsOf(model.map())) {
+    : model_(model),
+      opt_(options),
+      rng_(options.seed),
+      walls_(wallsOf(model.map())),
+      consistency_(options.consistency) {
   if (opt_.max_particles < 1) throw Error("the particle count must be positive", {}, 0, "particles");
   opt_.min_particles = std::clamp(opt_.min_particles, 1, opt_.max_particles);
   opt_.min_hypothesis_particles = std::clamp(opt_.min_hypothesis_particles, 1, opt_.min_particles);
@@ -93,6 +97,7 @@ void ParticleFilter::initialize(const Pose2& pose, double sigma_xy, double sigma
   w_slow_ = w_fast_ = 0.0;
   contradiction_ = 0.0;
   travelled_ = 0.0;
+  resetConsistency();
   global_start_ = false;
   converged_at_m_ = -1.0;
   probe_ended_m_ = -1e9;
@@ -107,6 +112,7 @@ void ParticleFilter::initializeGlobal() {
   hyps_.push_back(makeBroad(count, 0.0));
   w_slow_ = w_fast_ = 0.0;
   contradiction_ = 0.0;
+  resetConsistency();
   global_start_ = true;
   converged_at_m_ = -1.0;
   probe_ended_m_ = -1e9;
@@ -118,6 +124,7 @@ void ParticleFilter::initializeGlobal() {
 void ParticleFilter::predict(const OdometryDelta& delta) {
   travelled_ += std::abs(delta.trans);
   moved_ += std::abs(delta.trans) + 0.5 * (std::abs(delta.rot1) + std::abs(delta.rot2));
+  odom_ = odom_ * Pose2(delta.trans * Vec2(std::cos(delta.rot1), std::sin(delta.rot1)), delta.rot1 + delta.rot2);
   for (Hypothesis& h : hyps_) {
     for (Particle& p : h.particles) p.pose = sampleMotionOdometry(p.pose, delta, opt_.noise, rng_);
     h.estimate =
@@ -257,10 +264,37 @@ void ParticleFilter::injectAugmented(Hypothesis& h, std::size_t count) {
   if (count > 0) w_fast_ = w_slow_;  // the averages restart, so one bad scan does not keep scattering
 }
 
-bool ParticleFilter::correct(const sensor::BeamSet& beams) {
+void ParticleFilter::resetConsistency() {
+  consistency_.reset();
+  consistency_result_ = {};
+  odom_ = Pose2();
+  break_m_ = -1e9;
+  corrected_m_ = travelled_;
+}
+
+bool ParticleFilter::guarded() const {
+  // A robot tracked from a known start is lost by a kidnapping (or an odometry jump), which its
+  // scans show as a break. After a global start the likely error is a look-alike place, which no
+  // break tells; the rechecks and probes there are as before.
+  return opt_.recovery == Recovery::Probe && !global_start_;
+}
+
+bool ParticleFilter::licensed(const Hypothesis& probe) const {
+  return break_m_ >= probe.born_m - opt_.break_memory_m || probe.held_m >= opt_.doubt_after_m;
+}
+
+bool ParticleFilter::correct(const sensor::BeamSet& beams, const sensor::BeamSet* scan) {
   last_injected_ = 0;
   if (hyps_.empty() || beams.size() == 0) return false;
+  step_m_ = travelled_ - corrected_m_;
+  corrected_m_ = travelled_;
   weigh(beams);
+  // The scans against each other: a break says the robot (or its odometry) jumped.
+  consistency_result_ = consistency_.add(scan ? *scan : beams, odom_);
+  if (consistency_result_.broke) {
+    break_m_ = travelled_;
+    ++breaks_;
+  }
   updateContradiction(beams);
   organise();
   if (hyps_.empty()) return false;

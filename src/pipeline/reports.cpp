@@ -294,6 +294,7 @@ nlohmann::json localizeSummaryJson(const LocalizeResult& result, const LocalizeO
           {"injected_particles", r.injected},
           {"relocalizations", r.relocalizations},
           {"probes", r.probes},
+          {"breaks", r.breaks},
           {"converged", r.converged},
           {"converged_at_s", r.converged ? nlohmann::json(r.converged_at) : nlohmann::json(nullptr)},
           {"mean_particles", r.mean_particles},

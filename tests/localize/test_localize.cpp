@@ -304,6 +304,10 @@ TEST(Localizer, ReportsTheParticleSpreadOfEveryScan) {
   EXPECT_GE(r.relocalizations, 1u);
   EXPECT_GE(r.probes, 1u);
   EXPECT_EQ(r.relocalized[19], 0u);
+  // The whole scans told the kidnapping (a break licenses the probe); the drive before it did not.
+  EXPECT_GE(r.breaks, 1u);
+  const LocalizeResult before = localizeLog(roomLog(*model, 20, 0), *model, o);
+  EXPECT_EQ(before.breaks, 0u);
   EXPECT_EQ(r.relocalized.back(), r.relocalizations);
   EXPECT_TRUE(std::is_sorted(r.relocalized.begin(), r.relocalized.end()));
   for (std::size_t k = 0; k < n; ++k) {

@@ -47,6 +47,8 @@ struct LocalizeResult {
   std::size_t injected = 0;                      ///< random particles drawn in total (probes, injection)
   std::size_t relocalizations = 0;               ///< jumps of the estimate to another hypothesis (a probe won)
   std::size_t probes = 0;                        ///< recovery probes started
+  std::size_t breaks = 0;                        ///< scans that contradicted the one before them placed by
+                                                 ///< odometry (a kidnap or an odometry jump: ScanConsistency)
   std::vector<SelfCalibrationFit> calibrations;  ///< the sensor model's refits, in order
   sensor::SensorParams final_params;             ///< the model's parameters at the end
   double mean_particles = 0.0;                   ///< mean particle count over the updates

@@ -15,7 +15,10 @@
 /// be lost (the likelihood drops below its long-run average, or readings run through walls the
 /// model cannot explain), a probe (a broad hypothesis of random particles) starts beside the
 /// tracked one with a small prior mass, and takes over only if the scans that follow favour it by
-/// more than that prior (a sequential likelihood-ratio test); otherwise it dies out.
+/// more than that prior (a sequential likelihood-ratio test); otherwise it dies out. When tracking
+/// from a known start, a place far from the estimate also needs the scans to say the robot jumped
+/// (a break: ScanConsistency) or to have out-explained the estimate over metres: clutter lined up
+/// with other walls elsewhere fits for a room, a kidnapped robot's scans contradict its odometry.
 
 #include <cstdint>
 #include <optional>
@@ -24,6 +27,7 @@
 
 #include "glassmap/geometry/ray_caster.hpp"
 #include "glassmap/localize/motion_model.hpp"
+#include "glassmap/localize/scan_consistency.hpp"
 #include "glassmap/sensor/sensor_model.hpp"
 
 namespace glassmap::localize {
@@ -48,6 +52,8 @@ struct Hypothesis {
   Pose2 estimate;                   ///< weighted mean near its heaviest cell (last correct())
   double spread = 0.0;              ///< weighted RMS distance of its particles from estimate [m]
   double fit = 0.0;                 ///< short-term average of its per-beam marginal likelihood [-]
+  double held_m = 0.0;              ///< probes: travel over which it out-explained the tracked estimate
+                                    ///< but was kept from leading for want of a break in the scans [m]
   std::uint64_t id = 0;             ///< unique within the filter
 };
 
@@ -95,6 +101,17 @@ struct FilterOptions {
                                            ///< motion (translation + 0.5 m/rad of turning) since the last
                                            ///< update, in proportion below: scans from nearly the same pose
                                            ///< repeat the same clutter and map errors, not new evidence [m]
+  ScanConsistencyOptions consistency;      ///< a break in the scans: they contradict the odometry
+  double break_memory_m = 2.0;             ///< tracking from a known start (initialize()), a probe may lead only
+                                           ///< when the scans broke at most this much travel before it
+                                           ///< started, or since [m] ...
+  double doubt_after_m = 4.0;              ///< ... or it out-explained the estimate over this much travel [m]:
+                                           ///< a robot in clutter has scans that agree with its odometry,
+                                           ///< a kidnapped one has not; a place that lines the clutter up
+                                           ///< with other walls fits for a room, not for metres beyond
+  double jump_m = 2.0;                     ///< the guard holds only places farther than this from the tracked
+  double jump_heading = deg2rad(30.0);     ///< estimate [m], or turned more than this [rad]: nearer ones are a
+                                           ///< correction odometry can need (a cloud that slid in clutter)
   double probe_life_m = 8.0;               ///< a probe that has not won after this travel is dropped [m]
   double probe_cooldown_m = 1.0;           ///< travel between the end of a probe and the next [m]
   double recheck_m = 5.0;                  ///< after a global localization converged, a probe every this
@@ -142,9 +159,10 @@ class ParticleFilter {
   /// Moves every particle by the odometry increment (in the laser frame).
   void predict(const OdometryDelta& delta);
   /// Weights by the beams, updates the hypotheses' masses, splits, merges and prunes them, starts
-  /// a probe when the evidence says lost, and resamples each whose ESS dropped. Returns true when
-  /// some hypothesis was resampled.
-  bool correct(const sensor::BeamSet& beams);
+  /// a probe when the evidence says lost, and resamples each whose ESS dropped. `scan`: the whole
+  /// scan for the consistency test against the last one (ScanConsistency; default: `beams`).
+  /// Returns true when some hypothesis was resampled.
+  bool correct(const sensor::BeamSet& beams, const sensor::BeamSet* scan = nullptr);
 
   /// Pose estimate: the best hypothesis's weighted mean near its heaviest cell, of the weighted
   /// particles before resampling (resampling only adds noise to the mean).
@@ -170,6 +188,10 @@ class ParticleFilter {
   std::size_t lastInjected() const { return last_injected_; }
   /// Probes started so far.
   std::size_t probes() const { return probes_; }
+  /// Breaks so far: scans that contradicted the one before them placed by odometry.
+  std::size_t breaks() const { return breaks_; }
+  /// The consistency test of the last correct().
+  const ScanConsistencyResult& lastConsistency() const { return consistency_result_; }
   /// Smoothed share of readings at the best particle that run through a wall unexplained [-].
   double contradiction() const { return contradiction_; }  /// A random pose in free space.
   Pose2 randomFreePose();
@@ -187,6 +209,9 @@ class ParticleFilter {
   void maybeStartProbe();
   void organise();  // split, merge, prune, normalise
   bool resample(Hypothesis& h, bool is_best, bool force = false);
+  void resetConsistency();
+  bool guarded() const;                          // probes must show a break or a long doubt to lead
+  bool licensed(const Hypothesis& probe) const;  // ... and this one has
   void refine(Hypothesis& h, const sensor::BeamSet& beams);
   double climb(Pose2& x, const sensor::BeamSet& beams) const;  // local search; returns log p(z | x)
   void injectAugmented(Hypothesis& h, std::size_t count);
@@ -210,7 +235,13 @@ class ParticleFilter {
   std::uint64_t next_id_ = 1;
   std::uint64_t best_id_ = 0;
   Pose2 best_estimate_;
-  std::size_t relocalizations_ = 0, last_injected_ = 0, probes_ = 0;
+  std::size_t relocalizations_ = 0, last_injected_ = 0, probes_ = 0, breaks_ = 0;
+  ScanConsistency consistency_;
+  ScanConsistencyResult consistency_result_;
+  Pose2 odom_;                // the odometry integrated without noise (frame of the consistency test)
+  double break_m_ = -1e9;     // travel at the last break [m]
+  double step_m_ = 0.0;       // travel since the correct() before [m]
+  double corrected_m_ = 0.0;  // travel at the last correct() [m]
   std::vector<Pose2> poses_;  // all particles' poses, contiguous, for the model's batch call
   std::vector<double> ll_;
 };
