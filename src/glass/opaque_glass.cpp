@@ -35,10 +35,11 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   // Per thread: passes and stops per glass cell. Integer sums: the result does not depend on how
   // the scans were shared out.
   struct Tally {
-    std::vector<std::uint32_t> pass, stop;
+    std::vector<std::uint32_t> pass, stop, own;
   };
   tbb::enumerable_thread_specific<Tally> tallies([&] {
-    return Tally{std::vector<std::uint32_t>(cells.size(), 0), std::vector<std::uint32_t>(cells.size(), 0)};
+    return Tally{std::vector<std::uint32_t>(cells.size(), 0), std::vector<std::uint32_t>(cells.size(), 0),
+                 std::vector<std::uint32_t>(cells.size(), 0)};
   });
   const detail::GlassTiles tiles(e);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, log.scans.size(), 16), [&](const auto& range) {
@@ -49,29 +50,44 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
         const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
         const double beyond = std::max(o.beyond, 5.0 * sigma);
         const Vec2 dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
+        // A beam that went through a pane may have been folded by it: beyond that pane, where its
+        // straight continuation ends says nothing about what it crosses.
+        bool in_glass = false, through_pane = false;
         grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
-          if (last) return;  // a return in the cell itself is the classifiers' evidence
           const std::size_t i = g.index(x, y);
-          if (!is_glass[i]) return;
+          if (!is_glass[i]) {
+            through_pane = through_pane || in_glass;  // left the first pane's cells
+            return;
+          }
+          in_glass = true;
           const auto c = static_cast<std::size_t>(std::lower_bound(cells.begin(), cells.end(), i) - cells.begin());
+          if (last) {  // a return in the cell itself
+            t.own[c] += beam.hit;
+            return;
+          }
+          if (through_pane) return;
           const Vec2 n = dir.dot(normals[c]) >= 0.0 ? normals[c] : Vec2(-normals[c]);
           const double past = n.dot(beam.to - g.center(x, y));
           ++(!beam.hit || past >= beyond ? t.pass[c] : t.stop[c]);
         });
       });
   });
-  std::vector<std::uint32_t> pass(cells.size(), 0), stop(cells.size(), 0);
+  std::vector<std::uint32_t> pass(cells.size(), 0), stop(cells.size(), 0), own(cells.size(), 0);
   for (const Tally& t : tallies)
     for (std::size_t c = 0; c < cells.size(); ++c) {
       pass[c] += t.pass[c];
       stop[c] += t.stop[c];
+      own[c] += t.own[c];
     }
 
   for (std::size_t c = 0; c < cells.size(); ++c) {
     const double crossings = static_cast<double>(pass[c] + stop[c]);
-    if (crossings < o.min_crossings) continue;
+    // Returned by many beams and passed by none that came to it directly: nothing says it lets
+    // light through (glass seen only through other glass, and the far walls behind it).
+    const bool never_passed = pass[c] == 0 && own[c] >= static_cast<std::uint32_t>(o.min_unpassed_returns);
+    if (crossings < o.min_crossings && !never_passed) continue;
     ++stats.decided;
-    if (static_cast<double>(pass[c]) >= o.min_transmission * crossings) continue;
+    if (!never_passed && static_cast<double>(pass[c]) >= o.min_transmission * crossings) continue;
     const std::size_t i = cells[c];
     const std::int64_t id = e.candidate(static_cast<std::uint32_t>(i));
     std::uint8_t best = kEmpty;

@@ -1,5 +1,5 @@
 // Glass is crossed (glass/opaque_glass.hpp): on a simulated corridor, glass cells on the real panes
-// stay and glass drawn on the face of a wall is relabelled.
+// stay, and glass drawn on the face of a wall, or on a wall seen only through the pane, is relabelled.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -31,16 +31,19 @@ TEST(OpaqueGlass, GlassOnAWallFaceIsRelabelledAndRealPanesStay) {
   CellEvidence& e = mapped.evidence;
   const grid::GridGeometry& g = e.geometry;
   // Draw glass (normal along y: bin 18 of 36) on the free cells just in front of the wall, as a
-  // classifier fooled by the wall's noise-spread hits would.
-  const int wall_row = g.cellAt(Vec2(0, 2.4)).y;
+  // classifier fooled by the wall's noise-spread hits would, and on the far wall of the room behind
+  // the pane, seen only through the pane (no beam that came to it directly passes it).
   std::size_t drawn = 0;
-  for (int x = g.cellAt(Vec2(1, 0)).x; x <= g.cellAt(Vec2(11, 0)).x; ++x) {
-    for (int y = wall_row - 2; y <= wall_row; ++y) {
-      std::uint8_t& l = e.label[g.index(x, y)];
-      if (l != kEmpty) continue;
-      l = static_cast<std::uint8_t>(glassLabel(18));
-      ++drawn;
-      break;
+  for (const double wall_y : {2.4, -5.0}) {
+    const int wall_row = g.cellAt(Vec2(0, wall_y)).y;
+    for (int x = g.cellAt(Vec2(1, 0)).x; x <= g.cellAt(Vec2(11, 0)).x; ++x) {
+      for (int y = wall_row - 2; y <= wall_row; ++y) {
+        std::uint8_t& l = e.label[g.index(x, y)];
+        if (l != kEmpty && !(wall_y < 0 && l == kOccupied)) continue;
+        l = static_cast<std::uint8_t>(glassLabel(18));
+        ++drawn;
+        break;
+      }
     }
   }
   auto count = [&](double lo, double hi) {
@@ -52,18 +55,22 @@ TEST(OpaqueGlass, GlassOnAWallFaceIsRelabelledAndRealPanesStay) {
       }
     return n;
   };
-  const std::size_t pane_before = count(-0.15, 0.15), face_before = count(2.0, 2.5);
+  const std::size_t pane_before = count(-0.15, 0.15), face_before = count(2.0, 2.5), far_before = count(-5.2, -4.8);
   OpaqueGlassOptions oo;
   oo.range_sigma = 0.03;
   const OpaqueGlassStats s = relabelOpaqueGlass(log, o.beams, oo, e);
-  const std::size_t pane_after = count(-0.15, 0.15), face_after = count(2.0, 2.5);
+  const std::size_t pane_after = count(-0.15, 0.15), face_after = count(2.0, 2.5), far_after = count(-5.2, -4.8);
   std::printf(
-      "pane glass %zu -> %zu, glass on the wall face %zu (drawn %zu) -> %zu; %zu of %zu decided, %zu relabelled\n",
-      pane_before, pane_after, face_before, drawn, face_after, s.decided, s.glass_cells, s.relabelled);
+      "pane glass %zu -> %zu, glass on the wall face %zu -> %zu, on the far wall behind the pane %zu -> %zu (drawn "
+      "%zu); %zu of %zu decided, %zu relabelled\n",
+      pane_before, pane_after, face_before, face_after, far_before, far_after, drawn, s.decided, s.glass_cells,
+      s.relabelled);
   EXPECT_GT(pane_before, 150u);
   EXPECT_GE(pane_after, pane_before * 95 / 100);
   EXPECT_GT(face_before, 150u);
   EXPECT_LT(face_after, face_before / 10);
+  EXPECT_GT(far_before, 150u);
+  EXPECT_LT(far_after, far_before / 10);
 }
 
 }  // namespace

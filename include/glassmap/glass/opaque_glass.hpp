@@ -5,10 +5,13 @@
 /// the hit-from-one-angle signature the glass classifiers look for. Such cells take their best
 /// non-glass label.
 ///
-/// For every beam that crosses a glass cell (ends beyond it, not in it), the reading's distance past
-/// the pane's line (the cell's normal bin) decides: at least `beyond` (or a no-return reading) is a
-/// pass; less is a stop. A glass cell with at least min_crossings crossings of which fewer than
-/// min_transmission passed is opaque.
+/// For every beam that crosses a glass cell (ends beyond it, not in it) and did not go through
+/// another pane first (a pane may have folded it: beyond that pane, where its straight continuation
+/// ends says nothing), the reading's distance past the pane's line (the cell's normal bin) decides:
+/// at least `beyond` (or a no-return reading) is a pass; less is a stop. A glass cell with at least
+/// min_crossings such crossings of which fewer than min_transmission passed is opaque; so is one that
+/// at least min_unpassed_returns beams returned from and none passed (glass seen only through other
+/// glass: the far walls of the rooms behind a glass corridor).
 
 #include <cstddef>
 
@@ -21,7 +24,8 @@ namespace glassmap::glass {
 struct OpaqueGlassOptions {
   double beyond = 0.3;            ///< a pass ends at least this far past the pane [m] (at least 5 sigma(r))
   double min_transmission = 0.5;  ///< glass passes at least this share of the beams that cross it
-  int min_crossings = 5;          ///< fewer crossings decide nothing
+  int min_crossings = 5;          ///< fewer crossings decide nothing, unless
+  int min_unpassed_returns = 10;  ///< ...this many beams returned from the cell and none passed it
   double range_sigma = 0.0;       ///< the laser's range noise: sigma(r) = hypot(range_sigma,
   double range_sigma_rel = 0.0;   ///< range_sigma_rel r) [m, -]
 };
