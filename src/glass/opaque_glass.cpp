@@ -52,23 +52,24 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
         const Vec2 dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
         // A beam that went through a pane may have been folded by it: beyond that pane, where its
         // straight continuation ends says nothing about what it crosses.
-        bool in_glass = false, through_pane = false;
+        auto slot = [&](std::size_t i) {
+          return static_cast<std::size_t>(std::lower_bound(cells.begin(), cells.end(), i) - cells.begin());
+        };
+        // A return in a glass cell itself.
+        const grid::CellIndex end = g.cellAt(beam.to);
+        if (beam.hit && g.contains(end) && is_glass[g.index(end)]) ++t.own[slot(g.index(end))];
+        // The glass cells it crosses, up to where it leaves the first pane.
+        bool in_glass = false;
         grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
           const std::size_t i = g.index(x, y);
-          if (!is_glass[i]) {
-            through_pane = through_pane || in_glass;  // left the first pane's cells
-            return;
-          }
+          if (!is_glass[i]) return !in_glass;  // past the first pane: nothing more counts
           in_glass = true;
-          const auto c = static_cast<std::size_t>(std::lower_bound(cells.begin(), cells.end(), i) - cells.begin());
-          if (last) {  // a return in the cell itself
-            t.own[c] += beam.hit;
-            return;
-          }
-          if (through_pane) return;
+          if (last) return false;
+          const std::size_t c = slot(i);
           const Vec2 n = dir.dot(normals[c]) >= 0.0 ? normals[c] : Vec2(-normals[c]);
           const double past = n.dot(beam.to - g.center(x, y));
           ++(!beam.hit || past >= beyond ? t.pass[c] : t.stop[c]);
+          return true;
         });
       });
   });
