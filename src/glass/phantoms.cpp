@@ -45,10 +45,6 @@ bool wallNormal(const CellEvidence& e, int cx, int cy, Vec2& normal) {
       e, cx, cy, [](int l) { return l == kOccupied; }, normal);
 }
 
-}  // namespace
-
-namespace detail {
-
 // True when `reading` lies at least `margin` beyond the pane of glass label `pane_label` crossed
 // at `at`, and its mirror image across that pane falls on an occupied or glass cell (within the
 // uncertainty of the pane's 5-degree angle bin over the mirrored distance).
@@ -81,7 +77,7 @@ bool mirrorsASurface(const CellEvidence& e, int pane_label, const Vec2& at, cons
   return false;
 }
 
-}  // namespace detail
+}  // namespace
 
 PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions& beams, const PhantomOptions& options,
                                     CellEvidence& e) {
@@ -145,7 +141,7 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
         // surface in front of it: the path the pane folded, which draws a phantom pane with the
         // very signature of glass (the mirrored pane's direct returns, from one angle).
         if (through_glass && !is_folded && isGlass(e.label[g.index(end)]))
-          is_folded = detail::mirrorsASurface(e, pane_label, pane_at, beam.to, options.block_margin);
+          is_folded = mirrorsASurface(e, pane_label, pane_at, beam.to, options.block_margin);
         tally.through_glass += through_glass;
         tally.folded_beams += is_folded;
         tally.folded[static_cast<std::size_t>(c)] += is_folded;

@@ -39,11 +39,4 @@ struct PhantomStats {
 PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions& beams, const PhantomOptions& options,
                                     CellEvidence& evidence);
 
-namespace detail {
-/// True when `reading` lies at least `margin` beyond the pane of glass label `pane_label` crossed at
-/// `at`, and its mirror image across that pane falls on an occupied or glass cell of `evidence`.
-bool mirrorsASurface(const CellEvidence& evidence, int pane_label, const Vec2& at, const Vec2& reading,
-                     double margin);
-}  // namespace detail
-
 }  // namespace glassmap::glass
