@@ -57,7 +57,7 @@ class Votes {
     count_.assign(static_cast<std::size_t>(rows_) * cols_, 0);
   }
   void add(double angle, double rho) {
-    const int b = std::clamp(static_cast<int>(angle * kAngleBins / kPi), 0, kAngleBins - 1);
+    const int b = sparse::angleBinOf(angle);
     put(b + pad_, rho);
     if (b < pad_) put(b + kAngleBins + pad_, -rho);
     if (b >= kAngleBins - pad_) put(b - kAngleBins + pad_, -rho);
@@ -77,7 +77,6 @@ class Votes {
   }
   int rows() const { return rows_; }
   int cols() const { return cols_; }
-  int pad() const { return pad_; }
   Line line(int row, int col) const { return {(row - pad_ + 0.5) * kPi / kAngleBins, (col - half_) * step_}; }
 
  private:
@@ -101,7 +100,7 @@ std::vector<std::size_t> gather(const WeakReturns& weak, const std::vector<bool>
   const int span = static_cast<int>(std::ceil(tol_a * kAngleBins / kPi)) + 1;
   const Vec2 n = line.normal();
   for (int d = -span; d <= span; ++d)
-    for (std::size_t i : weak.bin(((centre + d) % kAngleBins + kAngleBins) % kAngleBins)) {
+    for (std::size_t i : weak.bin(sparse::wrapBin(centre + d))) {
       if (used[i] || std::abs(angleDiff(w[i].normal, line.angle)) > tol_a) continue;
       if (std::abs(n.dot(w[i].at) - line.rho) <= tol_r) out.push_back(i);
     }
@@ -109,8 +108,9 @@ std::vector<std::size_t> gather(const WeakReturns& weak, const std::vector<bool>
   return out;
 }
 
-// The line through returns `idx`: their principal axis when they spread over a metre and it agrees
-// with their beams, else the mean beam direction; the offset is the median.
+// The line through returns `idx`: their principal axis when they spread along it (standard
+// deviation over 0.3 m) and it lies within 2 tol_a of their mean beam direction, else that mean
+// direction; the offset is the median.
 Line fitLine(const std::vector<WeakReturn>& w, const std::vector<std::size_t>& idx, const Line& seed, double tol_a) {
   double c2 = 0, s2 = 0, mx = 0, my = 0;
   for (std::size_t i : idx) {
@@ -240,12 +240,7 @@ void forRunCells(const grid::GridGeometry& g, const Run& run, Visit&& visit) {
 bool seenThroughAnotherPane(const std::vector<WeakReturn>& w, const Run& run, const CellEvidence& panes,
                             const SparsePaneOptions& o) {
   const grid::GridGeometry& g = panes.geometry;
-  auto isPane = [&](int x, int y) {
-    int n = 0;
-    for (int dy = -2; dy <= 2; ++dy)
-      for (int dx = -2; dx <= 2; ++dx) n += g.contains(x + dx, y + dy) && isGlass(panes.label[g.index(x + dx, y + dy)]);
-    return n >= o.min_pane_cells;
-  };
+  auto isPane = [&](int x, int y) { return sparse::glassInBlock(g, panes.label, x, y, 2) >= o.min_pane_cells; };
   std::size_t via = 0;
   for (std::size_t i : run.returns) {
     const double range = (w[i].at - w[i].from).norm();
@@ -399,29 +394,30 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     seen_through.push_back(std::move(runs[r]));
   }
 
+  // Each run's cells to draw: empty ones, not within 2 cells of glass the classifiers found (a
+  // second line of glass beside a classified pane, a cell off, would make a band the vectorizer
+  // fits between the two).
+  std::vector<std::vector<std::size_t>> to_draw(seen_through.size());
+  for (std::size_t r = 0; r < seen_through.size(); ++r)
+    forRunCells(g, seen_through[r], [&](std::size_t i) {
+      const grid::CellIndex c = g.cellOf(i);
+      if (e.label[i] == kEmpty && sparse::glassInBlock(g, e.label, c.x, c.y, 2) == 0) to_draw[r].push_back(i);
+    });
   // Not seen through another pane: the labels with every candidate drawn in as glass.
   CellEvidence panes;
   panes.geometry = g;
   panes.bins = e.bins;
   panes.num_labels = e.num_labels;
   panes.label = e.label;
-  for (const Run& run : seen_through) {
-    const auto l = static_cast<std::uint8_t>(glassLabel(grid::angleBin(run.line.angle, e.bins)));
-    forRunCells(g, run, [&](std::size_t i) {
-      if (panes.label[i] == kEmpty) panes.label[i] = l;
-    });
-  }
-  // Where the classifiers found the pane already, their cells stand: a second line of glass beside
-  // them (a cell off) would make a band the vectorizer fits between the two.
-  const std::vector<std::uint8_t> classified = e.label;
-  auto nearClassifiedGlass = [&](std::size_t i) {
-    const grid::CellIndex c = g.cellOf(i);
-    for (int dy = -2; dy <= 2; ++dy)
-      for (int dx = -2; dx <= 2; ++dx)
-        if (g.contains(c.x + dx, c.y + dy) && isGlass(classified[g.index(c.x + dx, c.y + dy)])) return true;
-    return false;
+  auto labelOf = [&](const Run& run) {
+    return static_cast<std::uint8_t>(glassLabel(grid::angleBin(run.line.angle, e.bins)));
   };
-  for (const Run& run : seen_through) {
+  for (const Run& run : seen_through)
+    forRunCells(g, run, [&](std::size_t i) {
+      if (panes.label[i] == kEmpty) panes.label[i] = labelOf(run);
+    });
+  for (std::size_t r = 0; r < seen_through.size(); ++r) {
+    const Run& run = seen_through[r];
     if (seenThroughAnotherPane(weak, run, panes, o)) {
       ++stats.rejected_through;
       continue;
@@ -429,12 +425,11 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     ++stats.panes;
     stats.metres += run.s1 - run.s0;
     stats.found.push_back({run.end(run.s0), run.end(run.s1), run.returns.size(), run.log10_nfa, run.transmission});
-    const auto l = static_cast<std::uint8_t>(glassLabel(grid::angleBin(run.line.angle, e.bins)));
-    forRunCells(g, run, [&](std::size_t i) {
-      if (e.label[i] != kEmpty || nearClassifiedGlass(i)) return;
-      e.label[i] = l;
+    for (std::size_t i : to_draw[r]) {
+      if (e.label[i] != kEmpty) continue;  // an earlier pane drew it
+      e.label[i] = labelOf(run);
       ++stats.cells_labelled;
-    });
+    }
   }
   return stats;
 }

@@ -9,6 +9,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "glassmap/grid/distance_transform.hpp"
 #include "glassmap/grid/traversal.hpp"
 
 namespace glassmap::glass::sparse {
@@ -79,35 +80,6 @@ void countPasses(const LaserLog& log, const grid::BeamOptions& beams, const Cell
     }
 }
 
-// Chamfer distance (3 per cell step, 4 per diagonal step, capped at 255) of every cell to the
-// nearest occupied cell.
-std::vector<std::uint8_t> distanceToWalls(const CellEvidence& e) {
-  const grid::GridGeometry& g = e.geometry;
-  std::vector<std::uint8_t> d(g.cells(), 255);
-  for (std::size_t i = 0; i < d.size(); ++i)
-    if (e.label[i] == kOccupied) d[i] = 0;
-  auto relax = [&](int x, int y, int dx, int dy, int cost) {
-    if (!g.contains(x + dx, y + dy)) return;
-    std::uint8_t& here = d[g.index(x, y)];
-    here = static_cast<std::uint8_t>(std::min<int>(here, d[g.index(x + dx, y + dy)] + cost));
-  };
-  for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x) {
-      relax(x, y, -1, 0, 3);
-      relax(x, y, 0, -1, 3);
-      relax(x, y, -1, -1, 4);
-      relax(x, y, 1, -1, 4);
-    }
-  for (int y = g.height - 1; y >= 0; --y)
-    for (int x = g.width - 1; x >= 0; --x) {
-      relax(x, y, 1, 0, 3);
-      relax(x, y, 0, 1, 3);
-      relax(x, y, 1, 1, 4);
-      relax(x, y, -1, 1, 4);
-    }
-  return d;
-}
-
 }  // namespace
 
 WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, const SparsePaneOptions& o,
@@ -119,7 +91,9 @@ WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, co
   // Distance to the nearest occupied cell: the ends and corners of walls, seen past from most
   // directions and hit from a few, and the noise-spread front of a wall seen at grazing incidence
   // look like faint panes too.
-  const std::vector<std::uint8_t> wall_distance = distanceToWalls(e);
+  std::vector<std::uint8_t> wall(g.cells());
+  for (std::size_t i = 0; i < wall.size(); ++i) wall[i] = e.label[i] == kOccupied;
+  const std::vector<float> wall_distance = grid::distanceTransform(g.width, g.height, wall);  // [cells]
   for (const LaserScan& scan : log.scans) {
     // Beyond this range a beam is wider than max_footprint cells: a cell's returns and passes then
     // mix the surfaces the beam grazes.
@@ -132,8 +106,7 @@ WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, co
       const auto c = static_cast<std::size_t>(id);
       const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
       const double clearance = std::max(o.wall_clearance, 3.0 * sigma);
-      if (wall_distance[cell] * g.resolution / 3.0 <= clearance ||
-          passes[c] < static_cast<std::uint32_t>(o.min_through) ||
+      if (wall_distance[cell] * g.resolution <= clearance || passes[c] < static_cast<std::uint32_t>(o.min_through) ||
           hits[c] > o.max_hit_ratio * static_cast<double>(hits[c] + passes[c]))
         return;
       returns_.push_back({beam.to, beam.from, std::min(wrapPi(beam.angle), std::nextafter(kPi, 0.0)), cell});
@@ -188,9 +161,15 @@ bool WeakReturns::compatible(std::uint32_t cell, double normal, double tol) cons
 double WeakReturns::background(double normal, int pad) const {
   const int centre = angleBinOf(normal);
   double sum = 0.0;
-  for (int d = -pad; d <= pad; ++d)
-    sum += cells_per_bin_[static_cast<std::size_t>(((centre + d) % kAngleBins + kAngleBins) % kAngleBins)];
+  for (int d = -pad; d <= pad; ++d) sum += cells_per_bin_[static_cast<std::size_t>(wrapBin(centre + d))];
   return std::min(1.0, sum / observed_);
+}
+
+int glassInBlock(const grid::GridGeometry& g, const std::vector<std::uint8_t>& label, int x, int y, int r) {
+  int n = 0;
+  for (int dy = -r; dy <= r; ++dy)
+    for (int dx = -r; dx <= r; ++dx) n += g.contains(x + dx, y + dy) && isGlass(label[g.index(x + dx, y + dy)]);
+  return n;
 }
 
 }  // namespace glassmap::glass::sparse

@@ -2,6 +2,7 @@
 /// The weak returns of a log (glass/sparse_panes.hpp): returns from cells most beams pass, away
 /// from walls, each with the direction it came along, and the indexes the line search reads.
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -25,7 +26,15 @@ inline double angleDiff(double a, double b) {
 }
 
 /// 1-degree bin of a normal angle in [0, pi).
-inline int angleBinOf(double normal) { return std::min(kAngleBins - 1, static_cast<int>(normal * kAngleBins / kPi)); }
+inline int angleBinOf(double normal) {
+  return std::clamp(static_cast<int>(normal * kAngleBins / kPi), 0, kAngleBins - 1);
+}
+
+/// A bin index modulo kAngleBins (bins wrap at 180 degrees).
+inline int wrapBin(int b) { return (b % kAngleBins + kAngleBins) % kAngleBins; }
+
+/// Glass cells of `label` in the (2 r + 1)^2 block around (x, y).
+int glassInBlock(const grid::GridGeometry& g, const std::vector<std::uint8_t>& label, int x, int y, int r);
 
 /// A return from a cell most beams pass, and the direction it came along (its pane's normal).
 struct WeakReturn {

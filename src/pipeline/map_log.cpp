@@ -67,32 +67,25 @@ MapResult mapOnce(const LaserLog& log, const MapOptions& options, const Progress
     report("mrf", 1.0);
   }
 
-  // Panes too faint for the cell classifiers: weak returns lined up along their normals.
-  if (options.sparse_panes) {
-    report("sparse", 0.0);
+  // A cell step between the MRF and the floorplan: reported to progress as `stage`, timed into
+  // `seconds`.
+  auto step = [&](bool enabled, const char* stage, double& seconds, auto&& run) {
+    if (!enabled) return;
+    report(stage, 0.0);
     const auto ts = std::chrono::steady_clock::now();
-    out.sparse = glass::findSparsePanes(log, mapping.beams, options.sparse, out.evidence);
-    out.seconds.sparse = secondsSince(ts);
-    report("sparse", 1.0);
-  }
-
+    run();
+    seconds = secondsSince(ts);
+    report(stage, 1.0);
+  };
+  // Panes too faint for the cell classifiers: weak returns lined up along their normals.
+  step(options.sparse_panes, "sparse", out.seconds.sparse,
+       [&] { out.sparse = glass::findSparsePanes(log, mapping.beams, options.sparse, out.evidence); });
   // Glass is crossed: glass cells whose crossing beams stop just behind them are something's front.
-  if (options.opaque_glass) {
-    report("opaque", 0.0);
-    const auto to = std::chrono::steady_clock::now();
-    out.opaque = glass::relabelOpaqueGlass(log, mapping.beams, options.opaque, out.evidence);
-    out.seconds.opaque = secondsSince(to);
-    report("opaque", 1.0);
-  }
-
+  step(options.opaque_glass, "opaque", out.seconds.opaque,
+       [&] { out.opaque = glass::relabelOpaqueGlass(log, mapping.beams, options.opaque, out.evidence); });
   // Mirror phantoms: cells drawn by beams a pane folded.
-  if (options.phantoms) {
-    report("phantoms", 0.0);
-    const auto tp = std::chrono::steady_clock::now();
-    out.phantoms = glass::suppressMirrorPhantoms(log, mapping.beams, options.phantom, out.evidence);
-    out.seconds.phantoms = secondsSince(tp);
-    report("phantoms", 1.0);
-  }
+  step(options.phantoms, "phantoms", out.seconds.phantoms,
+       [&] { out.phantoms = glass::suppressMirrorPhantoms(log, mapping.beams, options.phantom, out.evidence); });
 
   // Vector floorplan, then the pane fit of the cells against it.
   if (options.fit_floorplan || options.prune_unfitted_glass) {

@@ -1,7 +1,7 @@
 #pragma once
 // Private to vector/: raster tools the structure stage, the room segmentation and the test maps
-// share: connected components, the Euclidean distance transform, a cell walk along a ray, and a
-// platform-independent random source.
+// share: connected components, a cell walk along a ray, and a platform-independent random source
+// (the Euclidean distance transform is grid/distance_transform.hpp).
 
 #include <cmath>
 #include <cstdint>
@@ -20,10 +20,6 @@ struct Components {
   std::size_t count() const { return sizes.size(); }
 };
 Components connectedComponents(int width, int height, const std::vector<std::uint8_t>& in, bool eight = false);
-
-/// Exact Euclidean distance transform (Felzenszwalb & Huttenlocher 2012): for every cell the
-/// distance [cells] to the nearest cell where `source` is true; +inf when there is none.
-std::vector<float> distanceTransform(int width, int height, const std::vector<std::uint8_t>& source);
 
 /// Visits the cells a segment from p to q crosses (grid coordinates in cells, the grid's lower-left
 /// corner at 0), in order, stopping when `visit(x, y)` returns false or the walk leaves the grid.

@@ -9,6 +9,7 @@
 #include "glassmap/core/angles.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
+#include "glassmap/grid/distance_transform.hpp"
 #include "grid_util.hpp"
 
 namespace glassmap::vector {
@@ -83,7 +84,7 @@ std::vector<std::uint8_t> insideCells(const LabelGrid& g, std::size_t min_cells,
   const std::size_t n = g.cells();
   std::vector<std::uint8_t> wall(n), open(n);
   for (std::size_t i = 0; i < n; ++i) wall[i] = g.codes[i] == kCodeOccupied;
-  const std::vector<float> to_wall = detail::distanceTransform(g.width, g.height, wall);
+  const std::vector<float> to_wall = grid::distanceTransform(g.width, g.height, wall);
   const float r = static_cast<float>(0.5 * entrance / g.resolution);
   for (std::size_t i = 0; i < n; ++i) open[i] = to_wall[i] > r;
   const detail::Components c = detail::connectedComponents(g.width, g.height, open);
@@ -251,7 +252,7 @@ void scanMap(LabelGrid& g, const std::vector<std::uint8_t>& inside, const Vector
              const SyntheticMapOptions& o, SplitMix& rng, SyntheticMap& out) {
   std::vector<std::uint8_t> blocked(g.cells());
   for (std::size_t i = 0; i < g.cells(); ++i) blocked[i] = !inside[i];
-  const std::vector<float> clearance = detail::distanceTransform(g.width, g.height, blocked);
+  const std::vector<float> clearance = grid::distanceTransform(g.width, g.height, blocked);
   const RayCaster caster(obstacles);
   std::vector<std::uint32_t> hits(g.cells(), 0), misses(g.cells(), 0);
   const int stride = std::max(1, static_cast<int>(std::lround(o.viewpoint_spacing / g.resolution)));

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "glass_sim_test_util.hpp"
 #include "glassmap/glass/mapping.hpp"
 #include "glassmap/glass/opaque_glass.hpp"
-#include "glassmap/sim/simulator.hpp"
 
 namespace glassmap::glass {
 namespace {
@@ -17,18 +17,13 @@ TEST(OpaqueGlass, GlassOnAWallFaceIsRelabelledAndRealPanesStay) {
   sim::Scene scene;
   VectorMap& m = scene.map;
   m.add({0, 0}, {12, 0}, Material::Glass);
+  testing::addPolyline(m, {{-1, 2.4}, {-1, -5}, {13, -5}, {13, 2.4}});
   m.add({0, 2.4}, {12, 2.4}, Material::Wall);
-  m.add({-1, -5}, {13, -5}, Material::Wall);
-  m.add({-1, -5}, {-1, 2.4}, Material::Wall);
-  m.add({13, -5}, {13, 2.4}, Material::Wall);
   scene.trajectory.waypoints = {{0.5, 1.2}, {11.5, 1.2}};
   scene.laser.rate = 10.0;
   scene.laser.range_sigma = 0.03;
-  const LaserLog log = sim::simulate(scene).log;
-  MappingOptions o;
-  o.method = Method::Direct;
-  MappingResult mapped = mapLog(log, o);
-  CellEvidence& e = mapped.evidence;
+  testing::Classified c = testing::simulateAndClassify(scene);
+  CellEvidence& e = c.mapped.evidence;
   const grid::GridGeometry& g = e.geometry;
   // Draw glass (normal along y: bin 18 of 36) on the free cells just in front of the wall, as a
   // classifier fooled by the wall's noise-spread hits would, and on the far wall of the room behind
@@ -58,7 +53,7 @@ TEST(OpaqueGlass, GlassOnAWallFaceIsRelabelledAndRealPanesStay) {
   const std::size_t pane_before = count(-0.15, 0.15), face_before = count(2.0, 2.5), far_before = count(-5.2, -4.8);
   OpaqueGlassOptions oo;
   oo.range_sigma = 0.03;
-  const OpaqueGlassStats s = relabelOpaqueGlass(log, o.beams, oo, e);
+  const OpaqueGlassStats s = relabelOpaqueGlass(c.log, c.options.beams, oo, e);
   const std::size_t pane_after = count(-0.15, 0.15), face_after = count(2.0, 2.5), far_after = count(-5.2, -4.8);
   std::printf(
       "pane glass %zu -> %zu, glass on the wall face %zu -> %zu, on the far wall behind the pane %zu -> %zu (drawn "

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "glass_sim_test_util.hpp"
 #include "glassmap/glass/mapping.hpp"
 #include "glassmap/glass/phantoms.hpp"
-#include "glassmap/sim/simulator.hpp"
 
 namespace glassmap::glass {
 namespace {
@@ -21,21 +21,15 @@ TEST(MirrorPhantoms, PhantomPanesMirroringARealPaneAreCleared) {
   VectorMap& m = scene.map;
   m.add({0, 0}, {12, 0}, Material::Glass);
   m.add({0, 2}, {12, 2}, Material::Glass);
-  m.add({-1, -5}, {13, -5}, Material::Wall);
-  m.add({-1, 7}, {13, 7}, Material::Wall);
-  m.add({-1, -5}, {-1, 7}, Material::Wall);
-  m.add({13, -5}, {13, 7}, Material::Wall);
+  testing::addBox(m, {-1, -5}, {13, 7});
   scene.trajectory.waypoints = {{1, 1}, {11, 1}};
   scene.trajectory.speed = 0.5;
   scene.laser.rate = 10.0;
   scene.glass.direct_sigma_deg = 15.0;
   scene.glass.direct_peak = 1.0;
   scene.glass.reflection_floor = 0.5;
-  const LaserLog log = sim::simulate(scene).log;
-  MappingOptions o;
-  o.method = Method::Direct;
-  MappingResult mapped = mapLog(log, o);
-  CellEvidence& e = mapped.evidence;
+  testing::Classified c = testing::simulateAndClassify(scene);
+  CellEvidence& e = c.mapped.evidence;
   // Glass cells inside the rooms (beyond either pane, short of the rooms' walls) are phantoms.
   auto phantoms = [&] {
     std::size_t n = 0, real = 0;
@@ -52,7 +46,7 @@ TEST(MirrorPhantoms, PhantomPanesMirroringARealPaneAreCleared) {
     return std::pair{n, real};
   };
   const auto [before, real_before] = phantoms();
-  const PhantomStats s = suppressMirrorPhantoms(log, o.beams, PhantomOptions{}, e);
+  const PhantomStats s = suppressMirrorPhantoms(c.log, c.options.beams, PhantomOptions{}, e);
   const auto [after, real_after] = phantoms();
   std::printf("phantom panes: %zu glass cells in the rooms before, %zu after; real pane cells %zu -> %zu\n", before,
               after, real_before, real_after);

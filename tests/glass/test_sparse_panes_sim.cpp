@@ -6,10 +6,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "glass_sim_test_util.hpp"
 #include "glassmap/glass/mapping.hpp"
 #include "glassmap/glass/sparse_panes.hpp"
 #include "glassmap/sim/sensor_profile.hpp"
-#include "glassmap/sim/simulator.hpp"
 
 namespace glassmap::glass {
 namespace {
@@ -45,20 +45,12 @@ sim::Scene glassCorridor(bool glass) {
   m.add({14, 0}, {16, 0}, Material::Wall);
   m.add({0, 2.4}, {2, 2.4}, Material::Wall);
   m.add({14, 2.4}, {16, 2.4}, Material::Wall);
-  m.add({0, -5}, {16, -5}, Material::Wall);
-  m.add({0, 7.4}, {16, 7.4}, Material::Wall);
-  m.add({0, -5}, {0, 7.4}, Material::Wall);
-  m.add({16, -5}, {16, 7.4}, Material::Wall);
+  testing::addBox(m, {0, -5}, {16, 7.4});
   for (double x : {5.0, 10.0}) {
     m.add({x, -5}, {x, -1.5}, Material::Wall);  // partitions that end in the room
     m.add({x, 7.4}, {x, 4.0}, Material::Wall);
   }
-  for (const Vec2& b : {Vec2(3, -3.5), Vec2(7.5, -2.5), Vec2(12, 5)}) {  // boxes
-    m.add(b, b + Vec2(1.2, 0), Material::Wall);
-    m.add(b + Vec2(1.2, 0), b + Vec2(1.2, 0.6), Material::Wall);
-    m.add(b + Vec2(1.2, 0.6), b + Vec2(0, 0.6), Material::Wall);
-    m.add(b + Vec2(0, 0.6), b, Material::Wall);
-  }
+  for (const Vec2& b : {Vec2(3, -3.5), Vec2(7.5, -2.5), Vec2(12, 5)}) testing::addBox(m, b, b + Vec2(1.2, 0.6));
   scene.trajectory.waypoints = {{0.8, 1.2}, {15.2, 1.2}};
   scene.trajectory.round_trip = true;
   sim::applySensorProfile(scene, sim::sensorProfile("rplidar-a2"));
@@ -68,16 +60,13 @@ sim::Scene glassCorridor(bool glass) {
 
 TEST(SparsePanes, FindsPanesTheClassifiersMissWithAWeakLaser) {
   const sim::Scene scene = glassCorridor(true);
-  const LaserLog log = sim::simulate(scene).log;
-  MappingOptions o;
-  o.method = Method::Direct;
-  MappingResult mapped = mapLog(log, o);
-  CellEvidence& e = mapped.evidence;
+  testing::Classified c = testing::simulateAndClassify(scene);
+  CellEvidence& e = c.mapped.evidence;
   const GlassCount before = countGlass(e, {0.0, 2.4}, 2, 14);
   SparsePaneOptions so;
   so.range_sigma = 0.005;  // the profile's noise: 5 mm + 1% of the range
   so.range_sigma_rel = 0.01;
-  const SparsePaneStats s = findSparsePanes(log, o.beams, so, e);
+  const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, e);
   const GlassCount after = countGlass(e, {0.0, 2.4}, 2, 14);
   std::printf(
       "classifier: %zu pane cells, %zu elsewhere; sparse panes: %zu (%.1f m), %zu pane cells, %zu elsewhere "
@@ -97,16 +86,13 @@ TEST(SparsePanes, DrawsNothingWithoutGlass) {
   // hits spread over two cells) and at wall ends and corners are not panes.
   sim::Scene scene = glassCorridor(false);
   scene.laser.range_sigma = 0.03;
-  const LaserLog log = sim::simulate(scene).log;
-  MappingOptions o;
-  o.method = Method::Direct;
-  MappingResult mapped = mapLog(log, o);
-  CellEvidence& e = mapped.evidence;
+  testing::Classified c = testing::simulateAndClassify(scene);
+  CellEvidence& e = c.mapped.evidence;
   const std::size_t before = e.countGlass();
   SparsePaneOptions so;
   so.range_sigma = 0.03;
   so.range_sigma_rel = 0.01;
-  const SparsePaneStats s = findSparsePanes(log, o.beams, so, e);
+  const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, e);
   std::printf(
       "glass-free floor: %zu weak returns, %zu runs tested; rejected %zu chance, %zu opaque, %zu through another pane; "
       "%zu panes\n",

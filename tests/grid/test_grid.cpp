@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <utility>
@@ -10,6 +12,7 @@
 
 #include "glassmap/core/error.hpp"
 #include "glassmap/grid/angle_histograms.hpp"
+#include "glassmap/grid/distance_transform.hpp"
 #include "glassmap/grid/scan_integration.hpp"
 #include "glassmap/grid/traversal.hpp"
 #include "grid_test_logs.hpp"
@@ -290,6 +293,36 @@ TEST(ParallelPasses, CountsAndHistogramsDoNotDependOnTheThreadCount) {
   EXPECT_EQ(c1, c4);
   EXPECT_EQ(h1, h4);
   EXPECT_FALSE(h1.empty());
+}
+
+}  // namespace
+}  // namespace glassmap::grid
+
+namespace glassmap::grid {
+namespace {
+
+// The exact Euclidean distance transform against brute force on random rasters (one with no source).
+TEST(DistanceTransform, MatchesBruteForce) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 20; ++trial) {
+    const int w = 5 + trial % 7, h = 3 + trial % 5;
+    std::vector<std::uint8_t> src(static_cast<std::size_t>(w) * h, 0);
+    if (trial > 0)
+      for (auto& v : src) v = rng() % 9 == 0;
+    const std::vector<float> d = distanceTransform(w, h, src);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        double best = std::numeric_limits<double>::infinity();
+        for (int yy = 0; yy < h; ++yy)
+          for (int xx = 0; xx < w; ++xx)
+            if (src[static_cast<std::size_t>(yy) * w + xx]) best = std::min(best, std::hypot(xx - x, yy - y));
+        const float got = d[static_cast<std::size_t>(y) * w + x];
+        if (std::isinf(best))
+          EXPECT_TRUE(std::isinf(got));
+        else
+          EXPECT_NEAR(got, best, 1e-4) << "trial " << trial << " cell " << x << "," << y;
+      }
+  }
 }
 
 }  // namespace
