@@ -9,6 +9,7 @@
 #include "cli_georef.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
+#include "glassmap/core/scan_spool.hpp"
 #include "glassmap/io/log.hpp"
 #include "glassmap/io/sensor_profile.hpp"
 #include "glassmap/pipeline/map_files.hpp"
@@ -32,11 +33,20 @@ struct MapArgs {
   bool quiet = false;
   bool vectorize = true;
   double max_memory_mb = 4096.0;
+  std::string spool_dir;  // "": beside the output folder
   std::string sensor;
   pipeline::MapOptions options;
   LogReadOptions read;
   cli::GeorefArgs georef;  // the floorplan files in the building's CRS
 };
+
+// The deepest folder of `out`'s path that exists: where a log too large for memory is kept.
+fs::path existingFolderOf(const std::string& out) {
+  fs::path p = fs::absolute(out);
+  std::error_code ec;
+  while (!fs::is_directory(p, ec) && p.has_parent_path() && p != p.parent_path()) p = p.parent_path();
+  return p;
+}
 
 void run(MapArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -47,6 +57,9 @@ void run(MapArgs& args) {
   LogReadOptions read = args.read;
   read.carmen.laser_id = args.laser_id;
   read.carmen.max_memory_bytes = static_cast<std::size_t>(args.max_memory_mb * 1e6);  // the log counts too
+  // A log over a quarter of the budget is kept on disk: the grid gets the rest.
+  read.carmen.spool_above_bytes = read.carmen.max_memory_bytes / 4;
+  read.carmen.spool_directory = args.spool_dir.empty() ? existingFolderOf(args.out) : fs::path(args.spool_dir);
   read.carmen.progress = cli::readProgress(show_progress);
   read.ros2.pose_source = BagPoseSource::Auto;  // SLAM poses (map -> odom) when the bag has them
   const LaserLog log = [&] {
@@ -60,6 +73,10 @@ void run(MapArgs& args) {
     }
   }();
   const double seconds_read = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (log.spooled && !args.quiet)
+    std::cerr << "glassmap: the log's " << log.scanCount() << " scans need more than a quarter of --max-memory: "
+              << "kept on disk (" << log.spooled->spool->fileBytes() / 1000000 << " MB, an unnamed file in "
+              << log.spooled->spool->directory().string() << ") and read back in blocks by every pass\n";
 
   // Options given as names are parsed here, at the edge.
   pipeline::MapOptions& options = args.options;
@@ -208,9 +225,15 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_option("--resolution", o.resolution, "cell size [m]")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--max-memory", args->max_memory_mb,
                   "memory budget [MB]: the log in memory (counted while reading) plus the grid's dense\n"
-                  "layers (checked before they are allocated); a run over it stops with the figure")
+                  "layers (checked before they are allocated); a run over it stops with the figure. A CARMEN\n"
+                  "log whose scans need more than a quarter of it is kept on disk (see --spool-dir) and read\n"
+                  "back block by block in every pass (ROS 2 bags are always read into memory)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--spool-dir", args->spool_dir,
+                  "folder for the scans of a log too large for memory (an unnamed temporary file, gone when\n"
+                  "the run ends however it ends); default: the output folder's parent. Avoid a tmpfs: it is memory")
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--angle-bin", o.angle_bin_deg, "incidence-angle bin width [deg], divides 180")
       ->capture_default_str();
   cmd->add_option("--range-cap", o.beams.range_cap, "use beams up to this range; max-range readings clear to it [m]")

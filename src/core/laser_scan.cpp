@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "glassmap/core/scan_spool.hpp"
+
 namespace glassmap {
 namespace {
-constexpr double kSlack = 0.005;        // readings within this of the code share it [m]
-constexpr std::size_t kMinBeams = 8;    // ... at this many beam indices at least
+constexpr double kSlack = 0.005;          // readings within this of the code share it [m]
+constexpr std::size_t kMinBeams = 8;      // ... at this many beam indices at least
 constexpr std::size_t kBeamSlots = 8192;  // beam indices told apart (more wrap around)
 }  // namespace
 
@@ -70,20 +72,53 @@ void MaxRangeCodeFinder::record(LogReadStats& stats) const {
   }
 }
 
+std::map<int, double> MaxRangeCodeFinder::codes() const {
+  std::map<int, double> out;
+  for (const auto& entry : lasers_)
+    if (const double c = code(entry.first); c > 0.0) out[entry.first] = c;
+  return out;
+}
+
+void applyMaxRangeCode(LaserScan& s, double code) {
+  // A code at or above the header's maximum is a max reading already: nothing to change.
+  if (s.max_range <= 0.0 || code < s.max_range) s.max_range = code - kSlack;
+}
+
 bool markMaxRangeCode(LaserLog& log) {
   MaxRangeCodeFinder finder;
-  for (const LaserScan& s : log.scans)
-    for (std::size_t i = 0; i < s.ranges.size(); ++i) finder.add(s.laser_id, s.ranges[i], i);
-  bool found = false;
-  for (LaserScan& s : log.scans) {
-    const double c = finder.code(s.laser_id);
-    if (c <= 0.0) continue;
-    found = true;
-    // A code at or above the header's maximum is a max reading already: nothing to change.
-    if (s.max_range <= 0.0 || c < s.max_range) s.max_range = c - kSlack;
-  }
+  forEachScanBlock(log, [&](std::span<const LaserScan> block, std::size_t) {
+    for (const LaserScan& s : block)
+      for (std::size_t i = 0; i < s.ranges.size(); ++i) finder.add(s.laser_id, s.ranges[i], i);
+  });
+  return applyMaxRangeCodes(log, finder);
+}
+
+bool applyMaxRangeCodes(LaserLog& log, const MaxRangeCodeFinder& finder) {
+  const std::map<int, double> codes = finder.codes();
+  for (LaserScan& s : log.scans)
+    if (const auto it = codes.find(s.laser_id); it != codes.end()) applyMaxRangeCode(s, it->second);
+  if (log.spooled) log.spooled->max_range_codes = codes;
   finder.record(log.stats);
-  return found;
+  return !codes.empty();
+}
+
+std::size_t LaserLog::scanCount() const { return spooled ? spooled->spool->size() : scans.size(); }
+
+void forEachScanBlock(const LaserLog& log,
+                      const std::function<void(std::span<const LaserScan> block, std::size_t first)>& f) {
+  if (!log.spooled) {
+    if (!log.scans.empty()) f(std::span<const LaserScan>(log.scans), 0);
+    return;
+  }
+  const SpooledScans& sp = *log.spooled;
+  sp.spool->forEachBlock(sp.block_bytes, [&](std::vector<LaserScan>& block, std::size_t first) {
+    for (LaserScan& s : block) {
+      if (!sp.shift.isZero()) s.laser_pose.t -= sp.shift;
+      if (const auto it = sp.max_range_codes.find(s.laser_id); it != sp.max_range_codes.end())
+        applyMaxRangeCode(s, it->second);
+    }
+    f(std::span<const LaserScan>(block), first);
+  });
 }
 
 }  // namespace glassmap

@@ -118,9 +118,9 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
     return Part{
         hist.emptyCounts(), std::vector<std::int64_t>(hist.size(), 0), std::vector<std::int64_t>(hist.size(), 0), {}};
   });
-  grid::forScansInParallel(log.scans.size(), progress, parts, [&](std::size_t s, Part& part) {
+  grid::forScansInParallel(log, progress, parts, [&](const LaserScan& scan, std::size_t, Part& part) {
     grid::IntegrationStats& st = part.stats;
-    grid::forEachBeam(log.scans[s], beams, [&](const grid::Beam& beam) {
+    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
       if (beam.no_return && beams.deferNoReturns()) return;  // grid::integrateNoReturns walks them
       ++st.beams;
       const int bin = grid::angleBin(beam.angle, bins);

@@ -31,7 +31,7 @@ MappingResult mapLog(const LaserLog& log, const MappingOptions& o,
   if (!(o.angle_bin_deg > 0.0) || std::abs(bins_real - bins) > 1e-9 || bins > 235) {
     throw Error("angle bin width must divide 180 deg into at most 235 bins", {}, 0, "angle_bin_deg");
   }
-  if (log.scans.empty()) throw Error("the log holds no scan to map");
+  if (log.scanCount() == 0) throw Error("the log holds no scan to map");
   MappingResult result;
   MappingStats& st = result.stats;
   auto report = [&](const char* stage) -> grid::Progress {

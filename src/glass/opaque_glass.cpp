@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "glass_tiles.hpp"
+#include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 
 namespace glassmap::glass {
@@ -42,36 +43,34 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
                  std::vector<std::uint32_t>(cells.size(), 0)};
   });
   const detail::GlassTiles tiles(e);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, log.scans.size(), 16), [&](const auto& range) {
-    Tally& t = tallies.local();
-    for (std::size_t s = range.begin(); s != range.end(); ++s)
-      grid::forEachBeam(log.scans[s], beams, [&](const grid::Beam& beam) {
-        if (!tiles.near(beam.from, beam.to)) return;
-        const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
-        const double beyond = std::max(o.beyond, 5.0 * sigma);
-        const Vec2 dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
-        // A beam that went through a pane may have been folded by it: beyond that pane, where its
-        // straight continuation ends says nothing about what it crosses.
-        auto slot = [&](std::size_t i) {
-          return static_cast<std::size_t>(std::lower_bound(cells.begin(), cells.end(), i) - cells.begin());
-        };
-        // A return in a glass cell itself.
-        const grid::CellIndex end = g.cellAt(beam.to);
-        if (beam.hit && g.contains(end) && is_glass[g.index(end)]) ++t.own[slot(g.index(end))];
-        // The glass cells it crosses, up to where it leaves the first pane.
-        bool in_glass = false;
-        grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
-          const std::size_t i = g.index(x, y);
-          if (!is_glass[i]) return !in_glass;  // past the first pane: nothing more counts
-          in_glass = true;
-          if (last) return false;
-          const std::size_t c = slot(i);
-          const Vec2 n = dir.dot(normals[c]) >= 0.0 ? normals[c] : Vec2(-normals[c]);
-          const double past = n.dot(beam.to - g.center(x, y));
-          ++(!beam.hit || past >= beyond ? t.pass[c] : t.stop[c]);
-          return true;
-        });
+  grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& t) {
+    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
+      if (!tiles.near(beam.from, beam.to)) return;
+      const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
+      const double beyond = std::max(o.beyond, 5.0 * sigma);
+      const Vec2 dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
+      // A beam that went through a pane may have been folded by it: beyond that pane, where its
+      // straight continuation ends says nothing about what it crosses.
+      auto slot = [&](std::size_t i) {
+        return static_cast<std::size_t>(std::lower_bound(cells.begin(), cells.end(), i) - cells.begin());
+      };
+      // A return in a glass cell itself.
+      const grid::CellIndex end = g.cellAt(beam.to);
+      if (beam.hit && g.contains(end) && is_glass[g.index(end)]) ++t.own[slot(g.index(end))];
+      // The glass cells it crosses, up to where it leaves the first pane.
+      bool in_glass = false;
+      grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
+        const std::size_t i = g.index(x, y);
+        if (!is_glass[i]) return !in_glass;  // past the first pane: nothing more counts
+        in_glass = true;
+        if (last) return false;
+        const std::size_t c = slot(i);
+        const Vec2 n = dir.dot(normals[c]) >= 0.0 ? normals[c] : Vec2(-normals[c]);
+        const double past = n.dot(beam.to - g.center(x, y));
+        ++(!beam.hit || past >= beyond ? t.pass[c] : t.stop[c]);
+        return true;
       });
+    });
   });
   std::vector<std::uint32_t> pass(cells.size(), 0), stop(cells.size(), 0), own(cells.size(), 0);
   for (const Tally& t : tallies)

@@ -12,6 +12,7 @@
 #include <boost/math/special_functions/beta.hpp>
 
 #include "glassmap/grid/angle_histograms.hpp"
+#include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 #include "weak_returns.hpp"
 
@@ -195,25 +196,23 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const s
   tbb::enumerable_thread_specific<Tally> tallies([&] {
     return Tally{std::vector<std::uint64_t>(runs.size(), 0), std::vector<std::uint64_t>(runs.size(), 0)};
   });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, log.scans.size(), 16), [&](const auto& range) {
-    Tally& t = tallies.local();
-    for (std::size_t s = range.begin(); s != range.end(); ++s)
-      grid::forEachBeam(log.scans[s], beams, [&](const grid::Beam& beam) {
-        if (!beam.hit) return;
-        const double beyond = beyond_at(beam.range);
-        for (std::size_t r = 0; r < runs.size(); ++r) {
-          const Vec2 n = runs[r].line.normal(), tg = runs[r].line.tangent();
-          const double f = n.dot(beam.from) - runs[r].line.rho, g = n.dot(beam.to) - runs[r].line.rho;
-          if (std::abs(g) <= band) {
-            const double along = tg.dot(beam.to);
-            if (along >= runs[r].s0 && along <= runs[r].s1 && std::abs(f) > band) ++t.hit[r];
-          } else if ((f > 0) != (g > 0)) {
-            // Crossed: a pass when it ends well beyond, else it stopped just behind (a wall's face).
-            const double along = tg.dot(beam.from + (f / (f - g)) * (beam.to - beam.from));
-            if (along >= runs[r].s0 && along <= runs[r].s1) ++(std::abs(g) >= beyond ? t.pass[r] : t.hit[r]);
-          }
+  grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& t) {
+    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
+      if (!beam.hit) return;
+      const double beyond = beyond_at(beam.range);
+      for (std::size_t r = 0; r < runs.size(); ++r) {
+        const Vec2 n = runs[r].line.normal(), tg = runs[r].line.tangent();
+        const double f = n.dot(beam.from) - runs[r].line.rho, g = n.dot(beam.to) - runs[r].line.rho;
+        if (std::abs(g) <= band) {
+          const double along = tg.dot(beam.to);
+          if (along >= runs[r].s0 && along <= runs[r].s1 && std::abs(f) > band) ++t.hit[r];
+        } else if ((f > 0) != (g > 0)) {
+          // Crossed: a pass when it ends well beyond, else it stopped just behind (a wall's face).
+          const double along = tg.dot(beam.from + (f / (f - g)) * (beam.to - beam.from));
+          if (along >= runs[r].s0 && along <= runs[r].s1) ++(std::abs(g) >= beyond ? t.pass[r] : t.hit[r]);
         }
-      });
+      }
+    });
   });
   pass.assign(runs.size(), 0);
   hit.assign(runs.size(), 0);
@@ -324,7 +323,7 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
                                 CellEvidence& e) {
   SparsePaneStats stats;
   const grid::GridGeometry& g = e.geometry;
-  if (e.cells.empty() || log.scans.empty()) return stats;
+  if (e.cells.empty() || log.scanCount() == 0) return stats;
   const double tol_r = std::max(o.offset_tol, 2.5 * o.range_sigma);
   const double tol_a = deg2rad(o.angle_tol_deg);
   auto sigmaAt = [&](double range) { return std::hypot(o.range_sigma, o.range_sigma_rel * range); };

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "glassmap/grid/distance_transform.hpp"
+#include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 
 namespace glassmap::glass::sparse {
@@ -54,22 +55,20 @@ void countPasses(const LaserLog& log, const grid::BeamOptions& beams, const Cell
   tbb::enumerable_thread_specific<Tally> tallies([&] {
     return Tally{std::vector<std::uint32_t>(e.cells.size(), 0), std::vector<std::uint32_t>(e.cells.size(), 0)};
   });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, log.scans.size(), 16), [&](const auto& range) {
-    Tally& t = tallies.local();
-    for (std::size_t s = range.begin(); s != range.end(); ++s)
-      grid::forEachBeam(log.scans[s], beams, [&](const grid::Beam& beam) {
-        if (!beam.hit) return;
-        const double pass_until = beam.range - margin;
-        grid::traverse(g, beam.from, beam.to, [&](int x, int y, double enter, bool last) {
-          const std::int32_t id = index.find(x, y);
-          if (id < 0) return;
-          const auto c = static_cast<std::size_t>(id);
-          if (last)
-            ++t.hits[c];
-          else if (enter * beam.range < pass_until)
-            ++t.passes[c];
-        });
+  grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& t) {
+    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
+      if (!beam.hit) return;
+      const double pass_until = beam.range - margin;
+      grid::traverse(g, beam.from, beam.to, [&](int x, int y, double enter, bool last) {
+        const std::int32_t id = index.find(x, y);
+        if (id < 0) return;
+        const auto c = static_cast<std::size_t>(id);
+        if (last)
+          ++t.hits[c];
+        else if (enter * beam.range < pass_until)
+          ++t.passes[c];
       });
+    });
   });
   hits.assign(e.cells.size(), 0);
   passes.assign(e.cells.size(), 0);
@@ -94,24 +93,26 @@ WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, co
   std::vector<std::uint8_t> wall(g.cells());
   for (std::size_t i = 0; i < wall.size(); ++i) wall[i] = e.label[i] == kOccupied;
   const std::vector<float> wall_distance = grid::distanceTransform(g.width, g.height, wall);  // [cells]
-  for (const LaserScan& scan : log.scans) {
-    // Beyond this range a beam is wider than max_footprint cells: a cell's returns and passes then
-    // mix the surfaces the beam grazes.
-    const double max_range = o.max_footprint * g.resolution / std::max(std::abs(scan.angular_step), 1e-6);
-    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (!beam.hit || beam.range < o.min_range || beam.range > max_range) return;
-      const auto cell = static_cast<std::uint32_t>(g.index(g.cellAt(beam.to)));
-      const std::int64_t id = e.candidate(cell);
-      if (id < 0) return;
-      const auto c = static_cast<std::size_t>(id);
-      const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
-      const double clearance = std::max(o.wall_clearance, 3.0 * sigma);
-      if (wall_distance[cell] * g.resolution <= clearance || passes[c] < static_cast<std::uint32_t>(o.min_through) ||
-          hits[c] > o.max_hit_ratio * static_cast<double>(hits[c] + passes[c]))
-        return;
-      returns_.push_back({beam.to, beam.from, std::min(wrapPi(beam.angle), std::nextafter(kPi, 0.0)), cell});
-    });
-  }
+  forEachScanBlock(log, [&](std::span<const LaserScan> block, std::size_t) {
+    for (const LaserScan& scan : block) {
+      // Beyond this range a beam is wider than max_footprint cells: a cell's returns and passes then
+      // mix the surfaces the beam grazes.
+      const double max_range = o.max_footprint * g.resolution / std::max(std::abs(scan.angular_step), 1e-6);
+      grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
+        if (!beam.hit || beam.range < o.min_range || beam.range > max_range) return;
+        const auto cell = static_cast<std::uint32_t>(g.index(g.cellAt(beam.to)));
+        const std::int64_t id = e.candidate(cell);
+        if (id < 0) return;
+        const auto c = static_cast<std::size_t>(id);
+        const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
+        const double clearance = std::max(o.wall_clearance, 3.0 * sigma);
+        if (wall_distance[cell] * g.resolution <= clearance || passes[c] < static_cast<std::uint32_t>(o.min_through) ||
+            hits[c] > o.max_hit_ratio * static_cast<double>(hits[c] + passes[c]))
+          return;
+        returns_.push_back({beam.to, beam.from, std::min(wrapPi(beam.angle), std::nextafter(kPi, 0.0)), cell});
+      });
+    }
+  });
 
   // By angle bin; per bin, the cells holding returns of that bin.
   std::vector<std::pair<std::uint32_t, int>> cell_bins;

@@ -22,8 +22,8 @@ NoReturnStops noReturnStops(const LaserLog& log, const BeamOptions& options, con
   // Per candidate and bin: returned beams ending there (the hits half of a histogram) and
   // no-returns crossing it (the misses half). Saturating counts, summed over threads.
   tbb::enumerable_thread_specific<std::vector<std::uint16_t>> parts([&] { return hist.emptyCounts(); });
-  forScansInParallel(log.scans.size(), {}, parts, [&](std::size_t s, std::vector<std::uint16_t>& part) {
-    forEachBeam(log.scans[s], options, [&](const Beam& beam) {
+  forScansInParallel(log, {}, parts, [&](const LaserScan& scan, std::size_t, std::vector<std::uint16_t>& part) {
+    forEachBeam(scan, options, [&](const Beam& beam) {
       const int bin = angleBin(beam.angle, bins);
       if (beam.no_return) {
         traverse(g, beam.from, beam.to, [&](int x, int y, double, bool) {
@@ -67,8 +67,8 @@ IntegrationStats integrateNoReturns(const LaserLog& log, const BeamOptions& opti
     IntegrationStats stats;
   };
   tbb::enumerable_thread_specific<Part> parts([&] { return Part{HitMissGrid(g), hist.emptyCounts(), {}}; });
-  forScansInParallel(log.scans.size(), progress, parts, [&](std::size_t s, Part& part) {
-    forEachBeam(log.scans[s], options, [&](const Beam& beam) {
+  forScansInParallel(log, progress, parts, [&](const LaserScan& scan, std::size_t, Part& part) {
+    forEachBeam(scan, options, [&](const Beam& beam) {
       if (!beam.no_return) return;
       const int bin = angleBin(beam.angle, bins);
       part.stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double, bool) {

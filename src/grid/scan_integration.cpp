@@ -19,18 +19,15 @@ NoReturnMode parseNoReturnMode(const std::string& name) {
 
 GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOptions& options, double margin) {
   // Scans in parallel; a box's extension is a min and a max, the same whatever the split.
-  const Eigen::AlignedBox2d box = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, log.scans.size(), 16), Eigen::AlignedBox2d(),
-      [&](const tbb::blocked_range<std::size_t>& r, Eigen::AlignedBox2d b) {
-        for (std::size_t s = r.begin(); s != r.end(); ++s) {
-          b.extend(log.scans[s].laser_pose.t);
-          forEachBeam(log.scans[s], options, [&](const Beam& beam) {
-            if (!(beam.no_return && options.deferNoReturns())) b.extend(beam.to);
-          });
-        }
-        return b;
-      },
-      [](Eigen::AlignedBox2d a, const Eigen::AlignedBox2d& b) { return a.extend(b); });
+  tbb::enumerable_thread_specific<Eigen::AlignedBox2d> boxes;
+  forScansInParallel(log, {}, boxes, [&](const LaserScan& scan, std::size_t, Eigen::AlignedBox2d& b) {
+    b.extend(scan.laser_pose.t);
+    forEachBeam(scan, options, [&](const Beam& beam) {
+      if (!(beam.no_return && options.deferNoReturns())) b.extend(beam.to);
+    });
+  });
+  Eigen::AlignedBox2d box;
+  for (const Eigen::AlignedBox2d& b : boxes) box.extend(b);
   if (box.isEmpty()) throw Error("the log holds no scan to map");
   return coveringGeometry(box.min(), box.max(), resolution, margin);
 }
@@ -51,9 +48,9 @@ template <typename Counts, typename Make, typename Prepare, typename Visit, type
 IntegrationStats integratePass(const LaserLog& log, const BeamOptions& options, const GridGeometry& g,
                                const Progress& progress, Make make, Prepare prepare, Visit visit, Merge merge) {
   tbb::enumerable_thread_specific<Part<Counts>> parts([&] { return Part<Counts>{make(), {}}; });
-  forScansInParallel(log.scans.size(), progress, parts, [&](std::size_t s, Part<Counts>& part) {
+  forScansInParallel(log, progress, parts, [&](const LaserScan& scan, std::size_t, Part<Counts>& part) {
     IntegrationStats& stats = part.stats;
-    forEachBeam(log.scans[s], options, [&](const Beam& beam) {
+    forEachBeam(scan, options, [&](const Beam& beam) {
       if (beam.no_return && options.deferNoReturns()) return;
       const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
       const auto per_beam = prepare(beam);

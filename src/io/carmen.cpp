@@ -1,5 +1,6 @@
 #include "glassmap/io/carmen.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <span>
 #include <string_view>
@@ -8,6 +9,7 @@
 #include "glassmap/core/angles.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
+#include "glassmap/core/scan_spool.hpp"
 #include "gzip_lines.hpp"
 #include "text_parse.hpp"
 
@@ -377,8 +379,21 @@ LaserLog readCarmenLog(const fs::path& path, const CarmenReadOptions& options) {
   LaserLog log;
   CarmenCallbacks cb;
   std::size_t bytes = 0;  // the log in memory, counted as it grows
+  std::shared_ptr<ScanSpool> spool;
+  MaxRangeCodeFinder codes;
   cb.on_scan = [&](LaserScan&& s) {
+    if (options.detect_max_range_code)
+      for (std::size_t i = 0; i < s.ranges.size(); ++i) codes.add(s.laser_id, s.ranges[i], i);
+    if (spool) return spool->append(s);
     bytes += sizeof(LaserScan) + s.ranges.size() * sizeof(float);
+    if (!options.spool_directory.empty() && bytes > options.spool_above_bytes) {
+      // Too large for memory: the scans so far and every later one go to disk.
+      spool = std::make_shared<ScanSpool>(options.spool_directory);
+      for (const LaserScan& kept : log.scans) spool->append(kept);
+      spool->append(s);
+      std::vector<LaserScan>().swap(log.scans);
+      return;
+    }
     if (options.max_memory_bytes > 0 && bytes > options.max_memory_bytes)
       throw Error("the log needs more than " + std::to_string(options.max_memory_bytes / 1000000) +
                       " MB in memory after " + std::to_string(log.scans.size()) + " scans (the memory limit)",
@@ -389,8 +404,14 @@ LaserLog readCarmenLog(const fs::path& path, const CarmenReadOptions& options) {
   cb.on_true_pose = [&](const StampedPose& p) { log.true_poses.push_back(p); };
   cb.on_param = [&](const std::string& k, const std::string& v) { log.params[k] = v; };
   log.stats = forEachCarmenRecord(path, cb, options);
-  if (options.detect_max_range_code) markMaxRangeCode(log);
-  if (options.require_scans && log.scans.empty()) {
+  if (spool) {
+    spool->flush();
+    // Blocks read back at half the in-memory limit (1-32 MB): the passes stay within it.
+    const std::size_t block = std::clamp<std::size_t>(options.spool_above_bytes / 2, 1u << 20, 32u << 20);
+    log.spooled = SpooledScans{spool, Vec2::Zero(), {}, block};
+  }
+  if (options.detect_max_range_code) applyMaxRangeCodes(log, codes);
+  if (options.require_scans && log.scanCount() == 0) {
     std::string what = log.stats.lines == 0 ? "file is empty" : std::to_string(log.stats.lines) + " lines read";
     throw Error("no laser scans (ROBOTLASER1, FLASER, RLASER or RAWLASER1..4 lines) in log (" + what + ")",
                 path.string());

@@ -19,23 +19,31 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 // Logs within 1 km of their origin are mapped where they are. The offset is a multiple of 64 m.
 Vec2 localOffset(const LaserLog& log) {
   Eigen::AlignedBox2d box;
-  for (const LaserScan& s : log.scans)
-    if (s.laser_pose.t.allFinite()) box.extend(s.laser_pose.t);
+  forEachScanBlock(log, [&](std::span<const LaserScan> block, std::size_t) {
+    for (const LaserScan& s : block)
+      if (s.laser_pose.t.allFinite()) box.extend(s.laser_pose.t);
+  });
   if (box.isEmpty()) return Vec2::Zero();
   const Vec2 centre = box.center();
   if (centre.cwiseAbs().maxCoeff() < 1000.0) return Vec2::Zero();
   return (centre / 64.0).array().round().matrix() * 64.0;
 }
 
-// A log re-centred on its poses (see localOffset), or the log itself.
+// A log re-centred on its poses (see localOffset), or the log itself. Spooled scans are shifted
+// as the passes read them back (no copy of the log on disk or in memory).
 struct LocalLog {
   Vec2 offset;
   LaserLog shifted;
   const LaserLog* log;
   explicit LocalLog(const LaserLog& input) : offset(localOffset(input)), log(&input) {
     if (offset.isZero()) return;
-    shifted.scans = input.scans;
-    for (LaserScan& s : shifted.scans) s.laser_pose.t -= offset;
+    if (input.spooled) {
+      shifted.spooled = input.spooled;
+      shifted.spooled->shift += offset;
+    } else {
+      shifted.scans = input.scans;
+      for (LaserScan& s : shifted.scans) s.laser_pose.t -= offset;
+    }
     log = &shifted;
   }
 };

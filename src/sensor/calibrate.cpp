@@ -354,17 +354,23 @@ void fitMirror(const Binned& d, SensorProfile& p) {
 }  // namespace
 
 CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const CalibrationOptions& o) {
-  if (log.scans.empty()) throw Error("the log has no scans to calibrate from");
+  if (log.scanCount() == 0) throw Error("the log has no scans to calibrate from");
   if (std::none_of(map.segments.begin(), map.segments.end(),
                    [](const MapSegment& s) { return s.material == Material::Wall; }))
     throw Error("the floorplan has no wall to calibrate against");
   const RayCaster caster(map);
+  // The scans used, spread evenly over the log, gathered in one pass (a spooled log is read once).
   std::vector<std::size_t> picked;
-  const std::size_t n = log.scans.size(), want = std::max<std::size_t>(1, std::min(o.max_scans, n));
+  const std::size_t n = log.scanCount(), want = std::max<std::size_t>(1, std::min(o.max_scans, n));
   for (std::size_t k = 0; k < want; ++k) picked.push_back(k * n / want);
+  std::vector<LaserScan> scans;
+  scans.reserve(picked.size());
+  forEachScanBlock(log, [&](std::span<const LaserScan> block, std::size_t first) {
+    for (std::size_t k = scans.size(); k < picked.size() && picked[k] < first + block.size(); ++k)
+      scans.push_back(block[picked[k] - first]);
+  });
   std::vector<ScanRecords> records(picked.size());
-  tbb::parallel_for(std::size_t{0}, picked.size(),
-                    [&](std::size_t k) { records[k] = collect(caster, log.scans[picked[k]], o); });
+  tbb::parallel_for(std::size_t{0}, picked.size(), [&](std::size_t k) { records[k] = collect(caster, scans[k], o); });
 
   CalibrationResult result;
   result.profile = o.prior;
@@ -388,7 +394,7 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
   SensorProfile& p = result.profile;
   p.wall_beams = walls.size();
   p.glass_beams = glass.size();
-  p.max_range = log.scans.front().max_range;
+  p.max_range = scans.front().max_range;
   fitBeamModel(walls, o, p, result.warnings);
   result.range_sigma_em_m = p.range_sigma_m.value;
   {

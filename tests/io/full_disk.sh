@@ -56,12 +56,28 @@ check "map on a full disk keeps the previous set" [ "$(cd "$work/map" && md5sum 
 check "map on a full disk leaves no staging folder" no_hidden "$work/map"
 check "map's error names the user's folder" grep -q "$work/map/" "$work/map.log"
 
-# The log counts in --max-memory: a log over it stops while it is read, naming the limit.
+# A log over a quarter of --max-memory is kept on disk and read back in blocks: the same maps as a
+# run with the log in memory; a budget the grid does not fit in stops before anything is written.
+"$glassmap" map "$work/sim/log.clf" -o "$work/map-memory" -q --method heuristic
+"$glassmap" map "$work/sim/log.clf" -o "$work/map-spooled" --method heuristic --max-memory 10 > "$work/spooled.log" 2>&1
+check "map spools a log over a quarter of --max-memory" grep -q "kept on disk" "$work/spooled.log"
+for f in labels.tif map.pgm floorplan.geojson sensor.yaml; do
+  check "... and writes the same $f as in memory" cmp -s "$work/map-memory/$f" "$work/map-spooled/$f"
+done
 "$glassmap" map "$work/sim/log.clf" -o "$work/map-small" -q --max-memory 2 > "$work/memory.log" 2>&1
 rc=$?
-check "map stops a log over --max-memory" [ $rc -ne 0 ]
-check "... naming the limit" grep -q "needs more than 2 MB in memory.*raise --max-memory" "$work/memory.log"
+check "map stops when the grid does not fit in --max-memory" [ $rc -ne 0 ]
+check "... naming the limit" grep -q "over the limit of .* MB: raise the limit (--max-memory)" "$work/memory.log"
 check "... and writes nothing" [ ! -e "$work/map-small/stats.json" ]
+# The folder the scans are spooled to fills up: an error naming it, nothing written, nothing left there.
+mkdir -p "$work/spool"
+limited 1024 "$glassmap" map "$work/sim/log.clf" -o "$work/map-spool-full" -q --max-memory 10 --spool-dir "$work/spool" \
+  > "$work/spool.log" 2>&1
+rc=$?
+check "map fails when the spool folder is full" [ $rc -ne 0 ]
+check "... naming the folder and the reason" grep -q "$work/spool: cannot keep the scans .*: File too large" "$work/spool.log"
+check "... leaving the spool folder empty" [ -z "$(ls -A "$work/spool")" ]
+check "... and writing no map" [ ! -e "$work/map-spool-full/stats.json" ]
 
 # An output folder that cannot be created fails before the log is read.
 touch "$work/a-file"

@@ -144,6 +144,36 @@ TEST(Carmen, RealLogRoundTrip) {
   EXPECT_EQ(readFileBytes(dir / "intel.clf").substr(0, 1), "#");
 }
 
+TEST(Carmen, ALogOverTheSpoolLimitIsKeptOnDiskAndReadsBackTheSame) {
+  TempDir dir;
+  const auto aces = test::realLog("aces-corrected.log.gz");  // has a no-return code (50 m readings)
+  GLASSMAP_REQUIRE_SHARED_DATA(aces);
+  const LaserLog memory = readCarmenLog(aces);
+  ASSERT_GT(memory.stats.max_range_code, 0.0);
+  CarmenReadOptions o;
+  o.spool_directory = dir.path();
+  o.spool_above_bytes = 100000;  // the log holds about 0.4 MB
+  o.max_memory_bytes = 200000;   // the scans on disk do not count
+  const LaserLog disk = readCarmenLog(aces, o);
+  ASSERT_TRUE(disk.spooled.has_value());
+  EXPECT_TRUE(disk.scans.empty());
+  EXPECT_EQ(disk.scanCount(), memory.scans.size());
+  EXPECT_EQ(disk.stats.max_range_code, memory.stats.max_range_code);
+  EXPECT_EQ(disk.odometry.size(), memory.odometry.size());
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));  // an unnamed file
+  LaserLog back;
+  back.odometry = disk.odometry;
+  back.params = disk.params;
+  forEachScanBlock(disk, [&](std::span<const LaserScan> b, std::size_t) {
+    back.scans.insert(back.scans.end(), b.begin(), b.end());
+  });
+  expectSameLog(memory, back);  // the code applied to the spooled scans too
+  // Under the limit, the log stays in memory.
+  o.spool_above_bytes = 1u << 30;
+  o.max_memory_bytes = 0;
+  EXPECT_FALSE(readCarmenLog(aces, o).spooled.has_value());
+}
+
 TEST(Carmen, SyntheticRoundTripKeepsEveryField) {
   TempDir dir;
   LaserLog log;

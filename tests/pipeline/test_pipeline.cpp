@@ -10,6 +10,7 @@
 
 #include "glassmap/core/error.hpp"
 #include "glassmap/core/labels.hpp"
+#include "glassmap/core/scan_spool.hpp"
 #include "glassmap/eval/cells.hpp"
 #include "glassmap/eval/trajectory.hpp"
 #include "glassmap/io/labels_raster.hpp"
@@ -247,6 +248,33 @@ TEST(Pipeline, ResultsDoNotDependOnWhereTheFrameOriginLies) {
       EXPECT_LT((r.floorplan.map.segments[i].b - offset - near.floorplan.map.segments[i].b).norm(), 1e-3);
     }
   }
+}
+
+TEST(Pipeline, ALogKeptOnDiskMapsToTheSameResult) {
+  // A log too large for memory is spooled and every pass reads it back in blocks: the same
+  // labels, profile and floorplan as the log in memory, also when the frame is re-centred.
+  const fs::path dir = fs::temp_directory_path() / ("glassmap-pipeline-spool-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  for (const Vec2& offset : {Vec2(0.0, 0.0), Vec2(500000.0, 5400000.0)}) {
+    auto spool = std::make_shared<ScanSpool>(dir);
+    for (LaserScan s : corridor().run.log.scans) {
+      s.laser_pose.t += offset;
+      spool->append(s);
+    }
+    spool->flush();
+    LaserLog disk;
+    disk.spooled = SpooledScans{spool, Vec2::Zero(), {}, 1u << 18};  // about 30 blocks
+    const MapResult r = mapLog(disk);
+    const MapResult& near = defaultMap();
+    EXPECT_EQ(r.evidence.label, near.evidence.label) << offset.transpose();
+    EXPECT_EQ(r.profile.range_sigma_m.value, near.profile.range_sigma_m.value);
+    EXPECT_EQ(r.stats.beams, near.stats.beams);
+    ASSERT_EQ(r.floorplan.map.segments.size(), near.floorplan.map.segments.size());
+    for (std::size_t i = 0; i < near.floorplan.map.segments.size(); ++i)
+      EXPECT_LT((r.floorplan.map.segments[i].a - offset - near.floorplan.map.segments[i].a).norm(), 1e-3);
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
+  fs::remove_all(dir);
 }
 
 TEST(Pipeline, LocalizesALogAgainstTheFloorplan) {

@@ -3,8 +3,12 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <map>
+#include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -69,15 +73,33 @@ struct LogReadStats {
   std::size_t max_range_code_readings = 0;             ///< readings at that value
 };
 
-/// A whole log in memory.
+class ScanSpool;
+
+/// Scans kept on disk (core/scan_spool.hpp), and what every pass applies to a scan as it reads
+/// one back: the very changes a log in memory gets in place.
+struct SpooledScans {
+  std::shared_ptr<const ScanSpool> spool;
+  Vec2 shift = Vec2::Zero();              ///< subtracted from every laser pose (a re-centred frame) [m]
+  std::map<int, double> max_range_codes;  ///< laser_id -> its no-return code (applyMaxRangeCode) [m]
+  std::size_t block_bytes = 32u << 20;    ///< ranges read back per block [bytes]
+};
+
+/// A whole log: its scans in memory, or (a log larger than the memory budget, see
+/// CarmenReadOptions::spool_directory) on disk. Code that reads every scan goes through
+/// forEachScanBlock, which serves both.
 struct LaserLog {
-  /// Bytes the scans hold (ranges and per-scan records; what a mapping run keeps) [bytes].
+  /// Bytes the log holds in memory (ranges and per-scan records; what a mapping run keeps;
+  /// spooled scans: the block a pass reads back and its copy) [bytes].
   std::size_t memoryBytes() const {
     std::size_t b = scans.size() * sizeof(LaserScan) + (odometry.size() + true_poses.size()) * sizeof(StampedPose);
     for (const LaserScan& s : scans) b += s.ranges.size() * sizeof(float);
+    if (spooled) b += 2 * spooled->block_bytes;
     return b;
   }
-  std::vector<LaserScan> scans;
+  /// Scans in the log, in memory or spooled.
+  std::size_t scanCount() const;
+  std::vector<LaserScan> scans;               ///< the scans in memory (empty when spooled)
+  std::optional<SpooledScans> spooled;        ///< set when the scans are on disk
   std::vector<StampedPose> odometry;          ///< ODOM lines
   std::vector<StampedPose> true_poses;        ///< TRUEPOS lines
   std::map<std::string, std::string> params;  ///< PARAM name -> value
@@ -95,6 +117,20 @@ struct LaserLog {
 /// code was found. A log whose top readings are spread out is left as it is.
 bool markMaxRangeCode(LaserLog& log);
 
+class MaxRangeCodeFinder;
+/// markMaxRangeCode with the readings already counted (by a reader, as it read them): applies
+/// the codes `finder` found to the log's scans (spooled scans: as they are read back).
+bool applyMaxRangeCodes(LaserLog& log, const MaxRangeCodeFinder& finder);
+
+/// What markMaxRangeCode does to one scan of a laser whose code is `code` [m].
+void applyMaxRangeCode(LaserScan& scan, double code);
+
+/// Calls f(block, first) over the log's scans in log order: the scans in memory as one block, or
+/// the spooled scans block by block, each as the log in memory would hold it (shift and no-return
+/// code applied); `first` is the index of the block's first scan.
+void forEachScanBlock(const LaserLog& log,
+                      const std::function<void(std::span<const LaserScan> block, std::size_t first)>& f);
+
 /// The counting behind markMaxRangeCode in one streaming pass (for readers that keep no scans):
 /// add every reading, then ask for the code.
 class MaxRangeCodeFinder {
@@ -106,6 +142,8 @@ class MaxRangeCodeFinder {
   double longestBelowCode(int laser_id) const;
   /// The largest code over all lasers into stats (max_range_code, max_range_code_readings).
   void record(LogReadStats& stats) const;
+  /// Every laser's code, for the lasers that have one.
+  std::map<int, double> codes() const;
 
  private:
   struct Laser {

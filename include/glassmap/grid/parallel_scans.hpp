@@ -15,18 +15,24 @@
 
 namespace glassmap::grid {
 
-/// Calls body(scan_index, local) for every scan index in [0, n), in parallel; `local` is the
-/// calling thread's element of `locals`. progress(fraction) is called from the calling thread only.
+/// Calls body(scan, scan_index, local) for every scan of the log, in parallel (a spooled log block
+/// by block, each block's scans in parallel); `local` is the calling thread's element of `locals`.
+/// progress(fraction) is called from the calling thread only.
 template <class Local, class Body>
-void forScansInParallel(std::size_t n, const Progress& progress, tbb::enumerable_thread_specific<Local>& locals,
+void forScansInParallel(const LaserLog& log, const Progress& progress, tbb::enumerable_thread_specific<Local>& locals,
                         Body&& body) {
   const std::thread::id caller = std::this_thread::get_id();
+  const std::size_t n = log.scanCount();
   std::atomic<std::size_t> done{0};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const tbb::blocked_range<std::size_t>& r) {
-    Local& local = locals.local();
-    for (std::size_t s = r.begin(); s != r.end(); ++s) body(s, local);
-    const std::size_t d = done.fetch_add(r.size()) + r.size();
-    if (progress && std::this_thread::get_id() == caller) progress(static_cast<double>(d) / static_cast<double>(n));
+  forEachScanBlock(log, [&](std::span<const LaserScan> block, std::size_t first) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, block.size(), 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        Local& local = locals.local();
+                        for (std::size_t s = r.begin(); s != r.end(); ++s) body(block[s], first + s, local);
+                        const std::size_t d = done.fetch_add(r.size()) + r.size();
+                        if (progress && std::this_thread::get_id() == caller)
+                          progress(static_cast<double>(d) / static_cast<double>(n));
+                      });
   });
   if (progress) progress(1.0);
 }

@@ -17,14 +17,19 @@ namespace glassmap {
 
 /// Options of the CARMEN readers.
 struct CarmenReadOptions {
-  int laser_id = 0;                  ///< keep only scans of this laser (1 front, 2 rear, n for RAWLASERn); 0 keeps all
-  double flaser_max_range = 0.0;     ///< max range of FLASER/RLASER scans [m]; 0: PARAM robot_front_laser_max /
-                                     ///< robot_rear_laser_max when the log has it, else 80 (CARMEN's own guess)
+  int laser_id = 0;                   ///< keep only scans of this laser (1 front, 2 rear, n for RAWLASERn); 0 keeps all
+  double flaser_max_range = 0.0;      ///< max range of FLASER/RLASER scans [m]; 0: PARAM robot_front_laser_max /
+                                      ///< robot_rear_laser_max when the log has it, else 80 (CARMEN's own guess)
   bool detect_max_range_code = true;  ///< readCarmenLog finds the scanner's "no return" value in the data
                                       ///< and treats it as max range (markMaxRangeCode)
-  bool require_scans = true;         ///< readCarmenLog throws Error when the log holds no scan (empty file included)
-  std::size_t max_memory_bytes = 0;  ///< readCarmenLog throws Error, while reading, once the log in memory
-                                     ///< passes this (see memoryBytes) [bytes]; 0: no limit
+  bool require_scans = true;          ///< readCarmenLog throws Error when the log holds no scan (empty file included)
+  std::size_t max_memory_bytes = 0;   ///< readCarmenLog throws Error, while reading, once the log in memory
+                                      ///< passes this (see memoryBytes) [bytes]; 0: no limit
+  /// When set, readCarmenLog keeps the scans on disk in this folder (an unlinked temporary file,
+  /// core/scan_spool.hpp) once those in memory pass spool_above_bytes, and max_memory_bytes no
+  /// longer counts them: a log of any size is read in bounded memory. Empty: always in memory.
+  std::filesystem::path spool_directory;
+  std::size_t spool_above_bytes = 0;  ///< see spool_directory [bytes]; 0 with a folder: spool from the first scan
   /// Called every few thousand lines and once at the end with the bytes of the file (as on disk,
   /// compressed for .gz) read so far and its size; may be empty.
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;
