@@ -225,9 +225,9 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_option("--resolution", o.resolution, "cell size [m]")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--max-memory", args->max_memory_mb,
                   "memory budget [MB]: the log in memory (counted while reading) plus the grid's dense\n"
-                  "layers (checked before they are allocated); a run over it stops with the figure. A CARMEN\n"
-                  "log whose scans need more than a quarter of it is kept on disk (see --spool-dir) and read\n"
-                  "back block by block in every pass (ROS 2 bags are always read into memory)")
+                  "layers (checked before they are allocated); a run over it stops with the figure. A log\n"
+                  "(CARMEN or ROS 2 bag) whose scans need more than a quarter of it is kept on disk (see\n"
+                  "--spool-dir) and read back block by block in every pass")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_option("--spool-dir", args->spool_dir,

@@ -3,11 +3,13 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 
 #include "glassmap/core/angles.hpp"
 #include "glassmap/core/error.hpp"
+#include "glassmap/core/scan_spool.hpp"
 #include "glassmap/io/ros2_cdr.hpp"
 #include "glassmap/io/ros2_log.hpp"
 #include "glassmap/io/ros2_tf.hpp"
@@ -141,6 +143,9 @@ LaserLog readRos2Log(const fs::path& path, const LogReadOptions& options, LogRea
   ros2::TfBuffer tf(kTfToleranceS), odom_tf(kTfToleranceS);
   LaserLog log;
   std::vector<RawScan> raw;
+  // A bag too large for memory (co.spool_directory): its scans on disk as read, their frames here.
+  std::shared_ptr<ScanSpool> raw_spool;
+  std::vector<std::uint32_t> raw_frames;
   std::vector<std::string> frames;
   std::string odom_parent, odom_child;
   std::size_t odom_frame_changes = 0;
@@ -178,6 +183,19 @@ LaserLog readRos2Log(const fs::path& path, const LogReadOptions& options, LogRea
           r.frame = static_cast<std::size_t>(f - frames.begin());
           if (f == frames.end()) frames.push_back(frame);
           bytes += sizeof(LaserScan) + r.scan.ranges.size() * sizeof(float);
+          if (!raw_spool && !co.spool_directory.empty() && bytes > co.spool_above_bytes) {
+            raw_spool = std::make_shared<ScanSpool>(co.spool_directory);
+            for (const RawScan& kept : raw) {
+              raw_spool->append(kept.scan);
+              raw_frames.push_back(static_cast<std::uint32_t>(kept.frame));
+            }
+            std::vector<RawScan>().swap(raw);
+          }
+          if (raw_spool) {
+            raw_spool->append(r.scan);
+            raw_frames.push_back(static_cast<std::uint32_t>(r.frame));
+            return true;
+          }
           if (co.max_memory_bytes > 0 && bytes > co.max_memory_bytes)
             throw Error("the log needs more than " + std::to_string(co.max_memory_bytes / 1000000) +
                             " MB in memory after " + std::to_string(raw.size()) + " scans (the memory limit)",
@@ -212,7 +230,8 @@ LaserLog readRos2Log(const fs::path& path, const LogReadOptions& options, LogRea
   log.stats.odometry = log.odometry.size();
 
   const std::string scan_desc = scan_topic->name + " (" + scan_topic->type + ")";
-  if (raw.empty()) {
+  const std::size_t raw_count = raw_spool ? raw_spool->size() : raw.size();
+  if (raw_count == 0) {
     if (co.require_scans) throw Error("no messages on the scan topic " + scan_desc, file);
     if (notes_out) *notes_out = notes;
     return log;
@@ -267,22 +286,22 @@ LaserLog readRos2Log(const fs::path& path, const LogReadOptions& options, LogRea
   }
 
   std::size_t no_odom = 0, no_map = 0, no_laser = 0;
-  log.scans.reserve(raw.size());
   bool have_time = false;
   double last_time = 0.0;
-  for (RawScan& r : raw) {
-    const double t = r.scan.timestamp;
+  // The scan's poses from the transforms at its stamp; false (counted) when one is missing.
+  auto place = [&](LaserScan& scan, std::size_t frame) {
+    const double t = scan.timestamp;
     const auto T_odom_base = odom_from_tf ? tf.lookup(odom_frame, base, t) : odom_tf.lookup("odom", "base", t);
     if (!T_odom_base) {
       ++no_odom;
-      continue;
+      return false;
     }
     Pose2 T_base_laser;
-    if (laser_connected[r.frame] && !frames[r.frame].empty()) {
-      const auto p = tf.lookup(base, frames[r.frame], t);
+    if (laser_connected[frame] && !frames[frame].empty()) {
+      const auto p = tf.lookup(base, frames[frame], t);
       if (!p) {
         ++no_laser;
-        continue;
+        return false;
       }
       T_base_laser = *p;
     }
@@ -291,27 +310,45 @@ LaserLog readRos2Log(const fs::path& path, const LogReadOptions& options, LogRea
       const auto p = tf.lookup(ro.map_frame, odom_frame, t, kMapToleranceS);
       if (!p) {
         ++no_map;
-        continue;
+        return false;
       }
       T_map_odom = *p;
     }
-    r.scan.odom_pose = *T_odom_base;
-    r.scan.has_odom = true;
-    r.scan.laser_pose = T_map_odom * *T_odom_base * T_base_laser;
+    scan.odom_pose = *T_odom_base;
+    scan.has_odom = true;
+    scan.laser_pose = T_map_odom * *T_odom_base * T_base_laser;
     if (have_time) {
       if (t < last_time) ++log.stats.backward_timestamps;
       if (t == last_time) ++log.stats.repeated_timestamps;
     }
     have_time = true;
     last_time = t;
-    log.scans.push_back(std::move(r.scan));
+    return true;
+  };
+  if (raw_spool) {
+    // Placed block by block from the raw spool into the log's own.
+    raw_spool->flush();
+    auto placed = std::make_shared<ScanSpool>(co.spool_directory);
+    const std::size_t block = std::clamp<std::size_t>(co.spool_above_bytes / 2, 1u << 20, 32u << 20);
+    raw_spool->forEachBlock(block, [&](std::vector<LaserScan>& scans, std::size_t first) {
+      for (std::size_t i = 0; i < scans.size(); ++i)
+        if (place(scans[i], raw_frames[first + i])) placed->append(scans[i]);
+    });
+    placed->flush();
+    raw_spool.reset();
+    std::vector<std::uint32_t>().swap(raw_frames);
+    log.spooled = SpooledScans{placed, Vec2::Zero(), {}, block};
+  } else {
+    log.scans.reserve(raw.size());
+    for (RawScan& r : raw)
+      if (place(r.scan, r.frame)) log.scans.push_back(std::move(r.scan));
   }
-  log.stats.scans = log.scans.size();
+  log.stats.scans = log.scanCount();
 
   // what was used
   std::string frame_names;
   for (const auto& f : frames) frame_names += (frame_names.empty() ? "" : ", ") + (f.empty() ? "\"\"" : f);
-  notes.notes.push_back("scans from " + scan_desc + ", frame " + frame_names + ": " + std::to_string(raw.size()) +
+  notes.notes.push_back("scans from " + scan_desc + ", frame " + frame_names + ": " + std::to_string(raw_count) +
                         " messages" + (multi_echo ? " (first echo of each beam)" : ""));
   std::string chain = "laser poses from ";
   chain += use_map ? ro.map_frame + " -> " + odom_frame + " (/tf)" : odom_frame;
@@ -321,7 +358,7 @@ LaserLog readRos2Log(const fs::path& path, const LogReadOptions& options, LogRea
       chain += std::string(f ? "," : "") + " -> " + frames[f] + (laser_connected[f] ? " (tf)" : " (identity)");
   notes.notes.push_back(chain);
   auto skipped = [&](std::size_t n, const std::string& why) {
-    if (n) notes.warnings.push_back(std::to_string(n) + " of " + std::to_string(raw.size()) + " scans skipped: " + why);
+    if (n) notes.warnings.push_back(std::to_string(n) + " of " + std::to_string(raw_count) + " scans skipped: " + why);
   };
   skipped(no_odom, "no " + odom_frame + " -> " + base + " within " + seconds(kTfToleranceS) + " s of their stamp");
   skipped(no_laser, "no " + base + " -> laser transform within " + seconds(kTfToleranceS) + " s of their stamp");
@@ -336,7 +373,7 @@ LaserLog readRos2Log(const fs::path& path, const LogReadOptions& options, LogRea
   if (tf.invalid() > 0)
     notes.warnings.push_back(std::to_string(tf.invalid()) +
                              " transforms skipped (zero quaternion, non-finite translation or empty frame name)");
-  if (co.require_scans && log.scans.empty()) {
+  if (co.require_scans && log.scanCount() == 0) {
     std::string why;
     for (const auto& w : notes.warnings) why += "; " + w;
     throw Error("no scan on " + scan_desc + " has a pose" + why, file);

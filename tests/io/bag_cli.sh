@@ -46,6 +46,11 @@ check "map says which chain" grep -q "laser poses from map -> odom" "$work/map_e
 check "map on a .db3 file exits 0" test $? -eq 0
 check "same labels.tif (mcap)" cmp -s "$work/map_clf/labels.tif" "$work/map_bag/labels.tif"
 check "same labels.tif (db3)" cmp -s "$work/map_clf/labels.tif" "$work/map_db3/labels.tif"
+# A bag over a quarter of --max-memory (its scans need about 1.7 MB) is kept on disk as it is read:
+# the same labels.
+"$glassmap" map "$work/bag_mcap" -o "$work/map_bag_spooled" --method direct --max-memory 6.5 >/dev/null 2>"$work/spool_err.txt"
+check "map spools a bag over a quarter of --max-memory" grep -q "kept on disk" "$work/spool_err.txt"
+check "same labels.tif (bag kept on disk)" cmp -s "$work/map_bag/labels.tif" "$work/map_bag_spooled/labels.tif"
 # The bag's LaserScan holds its angles as float32: the geometry is the same, a segment's evidence
 # (a mean over its cells' beams) may differ in the 7th digit.
 strip() { sed 's/"evidence": [-0-9.eE+]*/"evidence": E/g' "$1"; }

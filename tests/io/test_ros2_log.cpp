@@ -358,6 +358,28 @@ TEST(Ros2Log, ExtrapolationMultiEchoAndMemoryLimit) {
   LogReadOptions small;
   small.carmen.max_memory_bytes = 100;
   expectError([&] { readLog(dir / "bag", small); }, {"memory limit"});
+
+  // Kept on disk instead (a folder to spool to): the same scans, poses and warnings.
+  fs::create_directories(dir / "spool");
+  small.carmen.spool_directory = dir / "spool";
+  small.carmen.spool_above_bytes = 1;
+  LogReadNotes spool_notes;
+  const LaserLog disk = readLog(dir / "bag", small, &spool_notes);
+  ASSERT_TRUE(disk.spooled.has_value());
+  EXPECT_TRUE(disk.scans.empty());
+  EXPECT_EQ(disk.scanCount(), 2u);
+  EXPECT_EQ(disk.stats.scans, 2u);
+  EXPECT_EQ(spool_notes.warnings, notes.warnings);
+  std::vector<LaserScan> back;
+  forEachScanBlock(disk,
+                   [&](std::span<const LaserScan> b, std::size_t) { back.insert(back.end(), b.begin(), b.end()); });
+  ASSERT_EQ(back.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(back[i].ranges, log.scans[i].ranges);
+    EXPECT_TRUE(approxEqual(back[i].laser_pose, log.scans[i].laser_pose, 0.0, 0.0));
+    EXPECT_EQ(back[i].timestamp, log.scans[i].timestamp);
+  }
+  EXPECT_TRUE(fs::is_empty(dir / "spool"));
 }
 
 TEST(Ros2Log, NegativeStampsKeptLogTimesShifted) {

@@ -25,7 +25,7 @@ struct CarmenReadOptions {
   bool require_scans = true;          ///< readCarmenLog throws Error when the log holds no scan (empty file included)
   std::size_t max_memory_bytes = 0;   ///< readCarmenLog throws Error, while reading, once the log in memory
                                       ///< passes this (see memoryBytes) [bytes]; 0: no limit
-  /// When set, readCarmenLog keeps the scans on disk in this folder (an unlinked temporary file,
+  /// When set, readCarmenLog (and readLog for bags) keeps the scans on disk in this folder (an unlinked temporary file,
   /// core/scan_spool.hpp) once those in memory pass spool_above_bytes, and max_memory_bytes no
   /// longer counts them: a log of any size is read in bounded memory. Empty: always in memory.
   std::filesystem::path spool_directory;
