@@ -93,6 +93,7 @@ void ScanSpool::forEachBlock(std::size_t block_bytes,
   std::uint64_t at = 0;  // file offset of bytes' end
   std::size_t first = 0, index = 0, in_block = 0;
   auto read = [&](void* into, std::size_t n) {
+    if (n == 0) return;  // a scan without beams: its data() may be null
     if (bytes.size() - pos < n) {
       bytes.erase(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(pos));
       pos = 0;
