@@ -5,6 +5,7 @@
 
 #include "glassmap/core/error.hpp"
 #include "glassmap/vector/from_evidence.hpp"
+#include "local_frame.hpp"
 
 namespace glassmap::pipeline {
 namespace {
@@ -13,20 +14,14 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Where the map is computed: logs in absolute coordinates (UTM, a building's survey grid: 10^5 to
-// 10^7 m) are mapped in a frame re-centred on their poses, so that no result depends on where the
-// frame's origin lies (single-precision values and squared distances lose centimetres out there).
-// Logs within 1 km of their origin are mapped where they are. The offset is a multiple of 64 m.
+// The re-centring offset of a log: from the extent of its laser poses (local_frame.hpp).
 Vec2 localOffset(const LaserLog& log) {
   Eigen::AlignedBox2d box;
   forEachScanBlock(log, [&](std::span<const LaserScan> block, std::size_t) {
     for (const LaserScan& s : block)
       if (s.laser_pose.t.allFinite()) box.extend(s.laser_pose.t);
   });
-  if (box.isEmpty()) return Vec2::Zero();
-  const Vec2 centre = box.center();
-  if (centre.cwiseAbs().maxCoeff() < 1000.0) return Vec2::Zero();
-  return (centre / 64.0).array().round().matrix() * 64.0;
+  return detail::recentringOffset(box);
 }
 
 // A log re-centred on its poses (see localOffset), or the log itself. Spooled scans are shifted

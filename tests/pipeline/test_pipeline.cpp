@@ -296,6 +296,25 @@ TEST(Pipeline, LocalizesALogAgainstTheFloorplan) {
   EXPECT_THROW(localizeLog(s.run.log, s.scene.map, o), Error);
 }
 
+TEST(Pipeline, LocalizesTheSameWhereverThePlanLies) {
+  // The plan and the start in UTM-like coordinates: the same estimates, moved (the filter works
+  // in a frame re-centred on the plan; the log's odometry only moves the particles).
+  const Scene& s = corridor();
+  LocalizeOptions o;  // the command line's defaults
+  o.filter.init = s.run.ground_truth.front().pose;
+  const LocalizeResult near = localizeLog(s.run.log, s.scene.map, o);
+  const Vec2 offset(500000.0, 5400000.0);
+  VectorMap far = s.scene.map;
+  for (MapSegment& seg : far.segments) seg.a += offset, seg.b += offset;
+  o.filter.init->t += offset;
+  const LocalizeResult r = localizeLog(s.run.log, far, o);
+  ASSERT_EQ(r.run.trajectory.size(), near.run.trajectory.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < r.run.trajectory.size(); ++i)
+    worst = std::max(worst, (r.run.trajectory[i].pose.t - offset - near.run.trajectory[i].pose.t).norm());
+  EXPECT_LT(worst, 1e-6);
+}
+
 TEST(Pipeline, GlobalLocalizationSaysWhetherItConverged) {
   const sim::Scene scene = sim::loadScene(fs::path(GLASSMAP_SOURCE_DIR) / "maps" / "glass-corridor" / "scene.yaml");
   LocalizeOptions o;
