@@ -73,10 +73,11 @@ void run(MapArgs& args) {
     }
   }();
   const double seconds_read = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (log.spooled && !args.quiet)
+  if (const auto* disk = log.spooled ? dynamic_cast<const ScanSpool*>(log.spooled->spool.get()) : nullptr;
+      disk && !args.quiet)
     std::cerr << "glassmap: the log's " << log.scanCount() << " scans need more than a quarter of --max-memory: "
-              << "kept on disk (" << log.spooled->spool->fileBytes() / 1000000 << " MB, an unnamed file in "
-              << log.spooled->spool->directory().string() << ") and read back in blocks by every pass\n";
+              << "kept on disk (" << disk->fileBytes() / 1000000 << " MB, an unnamed file in "
+              << disk->directory().string() << ") and read back in blocks by every pass\n";
 
   // Options given as names are parsed here, at the edge.
   pipeline::MapOptions& options = args.options;

@@ -102,6 +102,38 @@ bool applyMaxRangeCodes(LaserLog& log, const MaxRangeCodeFinder& finder) {
   return !codes.empty();
 }
 
+namespace {
+
+class BorrowedScans final : public ScanStore {
+ public:
+  explicit BorrowedScans(const std::vector<LaserScan>& scans) : scans_(scans) {}
+  std::size_t size() const override { return scans_.size(); }
+  void forEachBlock(std::size_t block_bytes,
+                    const std::function<void(std::vector<LaserScan>& block, std::size_t first)>& f) const override {
+    std::vector<LaserScan> block;
+    std::size_t first = 0, bytes = 0;
+    for (std::size_t i = 0; i < scans_.size(); ++i) {
+      block.push_back(scans_[i]);
+      bytes += sizeof(LaserScan) + scans_[i].ranges.size() * sizeof(float);
+      if (bytes >= block_bytes || i + 1 == scans_.size()) {
+        f(block, first);
+        first = i + 1;
+        block.clear();
+        bytes = 0;
+      }
+    }
+  }
+
+ private:
+  const std::vector<LaserScan>& scans_;
+};
+
+}  // namespace
+
+std::shared_ptr<const ScanStore> borrowScans(const std::vector<LaserScan>& scans) {
+  return std::make_shared<BorrowedScans>(scans);
+}
+
 std::size_t LaserLog::scanCount() const { return spooled ? spooled->spool->size() : scans.size(); }
 
 void forEachScanBlock(const LaserLog& log,

@@ -24,21 +24,17 @@ Vec2 localOffset(const LaserLog& log) {
   return detail::recentringOffset(box);
 }
 
-// A log re-centred on its poses (see localOffset), or the log itself. Spooled scans are shifted
-// as the passes read them back (no copy of the log on disk or in memory).
+// A log re-centred on its poses (see localOffset), or the log itself. The scans are shifted as
+// the passes read them, a block at a time (no second copy of the log, in memory or on disk).
 struct LocalLog {
   Vec2 offset;
   LaserLog shifted;
   const LaserLog* log;
   explicit LocalLog(const LaserLog& input) : offset(localOffset(input)), log(&input) {
     if (offset.isZero()) return;
-    if (input.spooled) {
-      shifted.spooled = input.spooled;
-      shifted.spooled->shift += offset;
-    } else {
-      shifted.scans = input.scans;
-      for (LaserScan& s : shifted.scans) s.laser_pose.t -= offset;
-    }
+    shifted.spooled =
+        input.spooled ? *input.spooled : SpooledScans{borrowScans(input.scans), Vec2::Zero(), {}, 32u << 20};
+    shifted.spooled->shift += offset;
     log = &shifted;
   }
 };

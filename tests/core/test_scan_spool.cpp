@@ -134,6 +134,21 @@ TEST(ScanSpool, PassesSeeWhatTheLogInMemoryHoldsAfterShiftAndNoReturnCode) {
   fs::remove_all(dir);
 }
 
+TEST(ScanSpool, BorrowedScansAreCopiedOutBlockByBlockWithTheShift) {
+  LaserLog memory = variedLog(120);
+  LaserLog view;
+  view.spooled = SpooledScans{borrowScans(memory.scans), Vec2(5e5, 5.4e6), {}, 10000};
+  EXPECT_EQ(view.scanCount(), memory.scans.size());
+  EXPECT_LT(view.memoryBytes(), memory.memoryBytes());
+  std::size_t blocks = 0;
+  forEachScanBlock(view, [&](std::span<const LaserScan>, std::size_t) { ++blocks; });
+  EXPECT_GT(blocks, 5u);
+  const std::vector<LaserScan> back = allScans(view);
+  for (LaserScan& s : memory.scans) s.laser_pose.t -= Vec2(5e5, 5.4e6);
+  ASSERT_EQ(back.size(), memory.scans.size());
+  for (std::size_t i = 0; i < back.size(); ++i) expectSameScan(back[i], memory.scans[i]);
+}
+
 TEST(ScanSpool, AFolderThatCannotHoldItIsAnErrorNamingIt) {
   const fs::path missing = fs::temp_directory_path() / "glassmap-no-such-folder" / "deeper";
   try {

@@ -73,12 +73,27 @@ struct LogReadStats {
   std::size_t max_range_code_readings = 0;             ///< readings at that value
 };
 
-class ScanSpool;
+/// Scans a log does not hold in LaserLog::scans: kept on disk (ScanSpool, core/scan_spool.hpp), or
+/// another log's scans lent block by block (borrowScans), read in order a block at a time.
+class ScanStore {
+ public:
+  virtual ~ScanStore() = default;
+  virtual std::size_t size() const = 0;  ///< scans
+  /// Calls f(block, first) for consecutive blocks of the scans, each holding about `block_bytes`
+  /// of ranges (at least one scan); `first` is the index of the block's first scan. The block is
+  /// the caller's copy.
+  virtual void forEachBlock(std::size_t block_bytes,
+                            const std::function<void(std::vector<LaserScan>& block, std::size_t first)>& f) const = 0;
+};
 
-/// Scans kept on disk (core/scan_spool.hpp), and what every pass applies to a scan as it reads
-/// one back: the very changes a log in memory gets in place.
+/// The scans of `scans` as a store: each block copied out of them when read (so that a change,
+/// a re-centred frame, can be applied to the copy). `scans` must outlive the store.
+std::shared_ptr<const ScanStore> borrowScans(const std::vector<LaserScan>& scans);
+
+/// Scans read through a store, and what every pass applies to a scan as it reads one: the very
+/// changes a log in memory gets in place.
 struct SpooledScans {
-  std::shared_ptr<const ScanSpool> spool;
+  std::shared_ptr<const ScanStore> spool;
   Vec2 shift = Vec2::Zero();              ///< subtracted from every laser pose (a re-centred frame) [m]
   std::map<int, double> max_range_codes;  ///< laser_id -> its no-return code (applyMaxRangeCode) [m]
   std::size_t block_bytes = 32u << 20;    ///< ranges read back per block [bytes]

@@ -16,7 +16,7 @@
 
 namespace glassmap {
 
-class ScanSpool {
+class ScanSpool final : public ScanStore {
  public:
   /// Makes the temporary file in `directory` (must exist). Throws Error naming the folder.
   explicit ScanSpool(const std::filesystem::path& directory);
@@ -33,11 +33,9 @@ class ScanSpool {
   std::uint64_t fileBytes() const { return written_; }  ///< bytes on disk (after flush)
   const std::filesystem::path& directory() const { return directory_; }
 
-  /// Calls f(block, first) for consecutive blocks of the scans in append order, each block
-  /// holding about `block_bytes` of ranges (at least one scan); `first` is the index of the
-  /// block's first scan. The block may be modified (it is the caller's copy). Needs flush().
+  /// The scans in append order, block by block (ScanStore::forEachBlock). Needs flush().
   void forEachBlock(std::size_t block_bytes,
-                    const std::function<void(std::vector<LaserScan>& block, std::size_t first)>& f) const;
+                    const std::function<void(std::vector<LaserScan>& block, std::size_t first)>& f) const override;
 
  private:
   std::filesystem::path directory_;
