@@ -425,7 +425,7 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
       p.range_sigma_rel = {f.rel, f.rel_se, true};
     }
   }
-  const detail::RangeNoiseFit local = detail::fitRangeNoise(in_scan, 1.5);
+  const detail::RangeNoiseFit local = detail::fitRangeNoise(in_scan, 1.5, 500, true);
   if (local.ok) {
     result.range_sigma_local_m =
         rangeSigmaAt(SensorProfile{.range_sigma_m = {local.sigma0}, .range_sigma_rel = {local.rel}}, p.typical_range_m);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "glassmap/core/angles.hpp"
+
 namespace glassmap::sensor::detail {
 
 void inScanResiduals(const LaserScan& scan, std::vector<RangeResidual>& out) {
@@ -33,17 +35,59 @@ double median(std::vector<double>& v) {
   return *mid;
 }
 
-RangeNoiseFit fitRangeNoise(std::vector<RangeResidual> r, double variance_factor, std::size_t min_residuals) {
+double noiseScale(const std::vector<double>& z, double variance_factor) {
+  if (z.empty()) return 0.0;
+  // Start: the median absolute deviation, the scale of the Gaussian part if outliers were few.
+  std::vector<double> dev(z.size());
+  double span = 0.0;
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    dev[i] = std::abs(z[i]);
+    span = std::max(span, dev[i]);
+  }
+  double s = 1.4826 * median(dev);
+  if (!(s > 0.0) || !(span > 0.0)) return s / std::sqrt(variance_factor);
+  // EM over a zero-mean Gaussian and a uniform over [-span, span]: readings that straddle two
+  // surfaces (a pane and the wall seen through it, an edge) are spread far wider than the noise;
+  // counted in a median they inflate it (a fifth of such residuals: by about 30%).
+  const double uniform = 1.0 / (2.0 * span);
+  double outliers = 0.1;
+  for (int iteration = 0; iteration < 50; ++iteration) {
+    const double norm = (1.0 - outliers) / (std::sqrt(2.0 * kPi) * s);
+    double w_sum = 0.0, wz2 = 0.0;
+    for (const double d : dev) {
+      const double g = norm * std::exp(-0.5 * (d / s) * (d / s));
+      const double w = g / (g + outliers * uniform);
+      w_sum += w;
+      wz2 += w * d * d;
+    }
+    if (!(w_sum > 0.0)) break;
+    const double next = std::sqrt(wz2 / w_sum);
+    outliers = std::clamp(1.0 - w_sum / static_cast<double>(dev.size()), 1e-6, 0.9);
+    const bool settled = std::abs(next - s) < 1e-6 * s;
+    s = next;
+    if (settled) break;
+  }
+  return s / std::sqrt(variance_factor);
+}
+
+RangeNoiseFit fitRangeNoise(std::vector<RangeResidual> r, double variance_factor, std::size_t min_residuals,
+                            bool broad_outliers) {
   RangeNoiseFit fit;
   if (r.size() < min_residuals) return fit;
   fit.ok = true;
   std::sort(r.begin(), r.end(), [](const RangeResidual& x, const RangeResidual& y) { return x.range < y.range; });
   fit.median_range = r[r.size() / 2].range;
-  const double scale = 1.4826 / std::sqrt(variance_factor);
+  // Residuals already gated against a map: their median absolute deviation (unbiased well inside
+  // the gate, where the EM's uniform part would take the gate's tails for outliers).
+  auto scaleOf = [&](std::vector<double>& z) {
+    if (broad_outliers) return noiseScale(z, variance_factor);
+    for (double& v : z) v = std::abs(v);
+    return 1.4826 * median(z) / std::sqrt(variance_factor);
+  };
   // The pooled estimate: the one to keep when sigma does not grow with range.
-  std::vector<double> dev(r.size());
-  for (std::size_t i = 0; i < r.size(); ++i) dev[i] = std::abs(r[i].z);
-  const double pooled = scale * median(dev);
+  std::vector<double> all(r.size());
+  for (std::size_t i = 0; i < r.size(); ++i) all[i] = r[i].z;
+  const double pooled = scaleOf(all);
   fit.sigma0 = pooled;
   fit.sigma0_se = 1.2533 * pooled / std::sqrt(static_cast<double>(r.size()));
   // Range bins of equal counts (at least 200 residuals each, at most 12 bins).
@@ -55,10 +99,10 @@ RangeNoiseFit fitRangeNoise(std::vector<RangeResidual> r, double variance_factor
     std::vector<double> d;
     double sum_r = 0;
     for (std::size_t i = lo; i < hi; ++i) {
-      d.push_back(std::abs(r[i].z));
+      d.push_back(r[i].z);
       sum_r += r[i].range;
     }
-    const double s = scale * median(d), n = static_cast<double>(hi - lo);
+    const double s = scaleOf(d), n = static_cast<double>(hi - lo);
     const double rb = sum_r / n;
     x.push_back(rb * rb);
     y.push_back(s * s);

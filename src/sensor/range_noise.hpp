@@ -25,6 +25,12 @@ struct RangeResidual {
 /// 60 deg) and depth steps are left out.
 void inScanResiduals(const LaserScan& scan, std::vector<RangeResidual>& out);
 
+/// The noise sigma of residuals z (variance variance_factor * sigma^2 each) among readings that
+/// straddle two surfaces: EM over a zero-mean Gaussian and a uniform outlier part spanning the
+/// residuals, started from the median absolute deviation. Pure Gaussian residuals give their
+/// maximum-likelihood scale; a fifth of broad outliers no longer inflates it.
+double noiseScale(const std::vector<double>& z, double variance_factor);
+
 /// A fit of sigma(r) = hypot(sigma0, rel * r) with standard errors; rel = 0 (not fitted) when the
 /// data show no growth with range.
 struct RangeNoiseFit {
@@ -37,8 +43,9 @@ struct RangeNoiseFit {
 
 /// Robust fit: residuals in range bins (equal counts), each bin's sigma from its median absolute
 /// deviation divided by sqrt(variance_factor) (1.5 for in-scan residuals, 1 for residuals against
-/// a map), then weighted least squares of sigma_b^2 = sigma0^2 + rel^2 r_b^2.
+/// a map), or by noiseScale when `broad_outliers` (in-scan residuals, which no map has gated), then
+/// weighted least squares of sigma_b^2 = sigma0^2 + rel^2 r_b^2.
 RangeNoiseFit fitRangeNoise(std::vector<RangeResidual> residuals, double variance_factor,
-                            std::size_t min_residuals = 500);
+                            std::size_t min_residuals = 500, bool broad_outliers = false);
 
 }  // namespace glassmap::sensor::detail

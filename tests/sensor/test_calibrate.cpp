@@ -99,6 +99,20 @@ TEST(Calibrate, NoiseThatGrowsWithRange) {
   EXPECT_NEAR(rangeSigmaAt(q, 5.0), 0.01, 0.002);
 }
 
+// A wide lobe with a floor (a SICK TiM-like laser): many neighbouring readings straddle a pane and
+// the wall seen through it. The in-scan estimate takes them for outliers, not for noise (their
+// median absolute deviation put sigma 30% high).
+TEST(Calibrate, InScanNoiseIsNotInflatedByReadingsThatStraddleAPane) {
+  sim::Scene scene = corridor(0.02, 20.0, 0.9);
+  scene.glass.direct_floor = 0.15;
+  const LaserLog log = simulateFor(scene, 40.0);
+  sensor::CalibrationOptions o;
+  o.sigma_source = sensor::SigmaSource::Local;
+  const sensor::CalibrationResult r = sensor::calibrate(log, scene.map, o);
+  EXPECT_NEAR(r.profile.range_sigma_m.value, 0.02, 0.002);
+  EXPECT_NEAR(rangeSigmaAt(r.profile, r.profile.typical_range_m), 0.02, 0.002);
+}
+
 TEST(Calibrate, WithoutGlassKeepsTheGlassPriorAndSaysSo) {
   sim::Scene scene = corridor(0.02, 2.0, 0.9);
   VectorMap walls;
