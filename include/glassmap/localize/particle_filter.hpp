@@ -114,7 +114,7 @@ struct FilterOptions {
   double jump_m = 2.0;                     ///< the guard holds only places farther than this from the tracked
   double jump_heading = deg2rad(30.0);     ///< estimate [m], or turned more than this [rad]: nearer ones are a
                                            ///< correction odometry can need (a cloud that slid in clutter)
-  bool probe_from_scan = false;            ///< tracking from a known start, a probe keeps the max_particles of
+  bool probe_from_scan = true;             ///< tracking from a known start, a probe keeps the max_particles of
                                            ///< a global start's random poses that best fit the recent scans:
   double probe_history_m = 2.0;            ///< those of the last this much travel since the last break [m],
   int probe_history_scans = 4;             ///< at most this many, evenly spaced (and the current one) [-]
