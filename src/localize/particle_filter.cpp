@@ -252,6 +252,13 @@ void ParticleFilter::maybeStartProbe(const sensor::BeamSet& beams) {
   Hypothesis probe = global_start_ || !opt_.probe_from_scan ? makeBroad(count, std::log(prior))
                                                             : probeFromScans(count, std::log(prior), beams);
   probe.probe = true;
+  // Still broad, it may not lead a tracked estimate, not even on the scan it starts with (its
+  // mass took the recent scans, the estimate's came from further back).
+  if (guarded()) {
+    double lead = -std::numeric_limits<double>::infinity();
+    for (const Hypothesis& h : hyps_) lead = std::max(lead, h.log_mass);
+    probe.log_mass = std::min(probe.log_mass, lead - 1.0);
+  }
   hyps_.push_back(std::move(probe));
   ++probes_;
   last_injected_ = count;

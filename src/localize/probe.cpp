@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
 
 #include "glassmap/localize/particle_filter.hpp"
@@ -26,8 +27,7 @@ Hypothesis ParticleFilter::probeFromScans(std::size_t count, double log_prior, c
   // started at the oldest remembered scan: as many random poses as a global start draws, each
   // weighed by the remembered scans (placed back along the odometry) and the current one, and
   // `count` of them kept by their annealed weights (the untempered rest carried in log_ratio, as a
-  // broad hypothesis does). Its mass takes those scans too: their marginal likelihood over the
-  // floor against that over the filter's hypotheses. A probe of `count` uniform draws weighed by
+  // broad hypothesis does). Its mass takes those scans too. A probe of `count` uniform draws weighed by
   // nothing holds the robot's place only by luck (500 over a 450 m^2 floor: one in three near it),
   // and one scan along a corridor fits every place along it.
   const std::size_t n = std::max(globalParticles(), count);
@@ -51,7 +51,37 @@ Hypothesis ParticleFilter::probeFromScans(std::size_t count, double log_prior, c
   weighAll(beams, current);
   for (std::size_t i = 0; i < n; ++i) score[i] += last_novelty_ * current[i];
   filter_marginal += last_novelty_ * last_marginal_;
+  // The mass: the scans' marginal likelihood over the floor (the mean over uniform draws) against
+  // that over the filter's hypotheses.
   h.log_mass = log_prior + detail::logSumExp(score) - std::log(static_cast<double>(n)) - filter_marginal;
+  // The best of them climb to the nearest optimum of the current scan's likelihood and are weighed
+  // again (their place in the cloud, not the mass: a climbed pose is no uniform draw): a random
+  // pose rarely lands within centimetres of the robot, often within a climb's reach.
+  const std::size_t k = std::min<std::size_t>(n, static_cast<std::size_t>(std::max(opt_.probe_climbs, 0)));
+  if (k > 0) {
+    std::vector<std::size_t> order(n);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
+                      [&](std::size_t a, std::size_t b) { return score[a] > score[b]; });
+    order.resize(k);
+    std::vector<Pose2> climbed(k);
+    std::vector<double> cur(k), sc(k);
+    tbb::parallel_for(std::size_t{0}, k, [&](std::size_t j) {
+      Pose2 x = h.particles[order[j]].pose;
+      cur[j] = climb(x, beams);
+      double s = last_novelty_ * cur[j];
+      for (const RecentScan& r : history_)
+        s += r.novelty * model_.logLikelihood(x * (odom_.inverse() * r.odom), r.beams);
+      climbed[j] = x;
+      sc[j] = s;
+    });
+    for (std::size_t j = 0; j < k; ++j)
+      if (sc[j] > score[order[j]]) {
+        h.particles[order[j]].pose = climbed[j];
+        score[order[j]] = sc[j];
+        current[order[j]] = cur[j];
+      }
+  }
   const double inv_t = 1.0 / std::max(opt_.global_temperature, 1.0);
   std::vector<double> w(n);
   for (std::size_t i = 0; i < n; ++i) w[i] = inv_t * score[i];

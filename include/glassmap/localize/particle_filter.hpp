@@ -117,7 +117,10 @@ struct FilterOptions {
   bool probe_from_scan = true;             ///< tracking from a known start, a probe keeps the max_particles of
                                            ///< a global start's random poses that best fit the recent scans:
   double probe_history_m = 2.0;            ///< those of the last this much travel since the last break [m],
-  int probe_history_scans = 4;             ///< at most this many, evenly spaced (and the current one) [-]
+  int probe_history_scans = 4;             ///< at most this many, evenly spaced (and the current one) [-];
+  int probe_climbs = 256;                  ///< the best this many of them climb on the current scan before
+                                           ///< the max_particles are chosen (the probe's mass takes the draws
+                                           ///< as drawn: climbed poses are no uniform sample) [-]
   double probe_life_m = 8.0;               ///< a probe that has not won after this travel is dropped [m]
   double probe_cooldown_m = 1.0;           ///< travel between the end of a probe and the next [m]
   double recheck_m = 5.0;                  ///< after a global localization converged, a probe every this
