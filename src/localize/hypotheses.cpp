@@ -318,7 +318,9 @@ void ParticleFilter::organise() {
         // Held back by the guard alone: the travel over which it gained on the tracked estimate.
         if (!h.broad && h.log_mass > lead_other - 1.0) h.held_m += step_m_;
         if (!licensed(h)) h.log_mass = std::min(h.log_mass, lead_other - 1.0);
-      } else if (!fits) {
+      } else if (!fits || (h.broad && guarded())) {
+        // Nor may a probe still spread over the floor take over a tracked estimate: its places are
+        // not yet told apart (along a corridor, one fits as well as its mirror image).
         h.log_mass = std::min(h.log_mass, lead_other - 1.0);
       }
     }

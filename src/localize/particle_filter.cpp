@@ -188,7 +188,9 @@ void ParticleFilter::weigh(const sensor::BeamSet& beams) {
   }
   // The filter's marginal likelihood per beam (a geometric mean keeps it in range for any beam
   // count): its short- and long-term averages tell a sudden drop (table 8.3).
-  const double w_avg = std::exp(detail::logSumExp(total) / nb);
+  last_novelty_ = novelty;
+  last_marginal_ = detail::logSumExp(total);
+  const double w_avg = std::exp(last_marginal_ / nb);
   if (w_slow_ <= 0.0 || !std::isfinite(w_slow_)) {
     w_slow_ = w_fast_ = w_avg;
   } else {
@@ -225,7 +227,7 @@ void ParticleFilter::updateContradiction(const sensor::BeamSet& beams) {
   }
 }
 
-void ParticleFilter::maybeStartProbe() {
+void ParticleFilter::maybeStartProbe(const sensor::BeamSet& beams) {
   if (opt_.recovery != Recovery::Probe || hyps_.empty()) return;
   for (const Hypothesis& h : hyps_)
     if (h.broad) return;
@@ -247,8 +249,16 @@ void ParticleFilter::maybeStartProbe() {
   // clutter of a real scan (Freiburg 079 with perfect odometry: lost with a probe from the free
   // area, 0.05 m with max_particles).
   const auto count = global_start_ ? globalParticles() : static_cast<std::size_t>(opt_.max_particles);
-  Hypothesis probe = makeBroad(count, std::log(prior));
+  Hypothesis probe = global_start_ || !opt_.probe_from_scan ? makeBroad(count, std::log(prior))
+                                                            : probeFromScans(count, std::log(prior), beams);
   probe.probe = true;
+  // Still broad, it may not lead a tracked estimate, not even on the scan it starts with (its
+  // mass took the recent scans, the estimate's came from further back).
+  if (guarded()) {
+    double lead = -std::numeric_limits<double>::infinity();
+    for (const Hypothesis& h : hyps_) lead = std::max(lead, h.log_mass);
+    probe.log_mass = std::min(probe.log_mass, lead - 1.0);
+  }
   hyps_.push_back(std::move(probe));
   ++probes_;
   last_injected_ = count;
@@ -269,6 +279,8 @@ void ParticleFilter::resetConsistency() {
   consistency_result_ = {};
   odom_ = Pose2();
   break_m_ = -1e9;
+  break_open_ = false;
+  history_.clear();
   corrected_m_ = travelled_;
 }
 
@@ -280,7 +292,7 @@ bool ParticleFilter::guarded() const {
 }
 
 bool ParticleFilter::licensed(const Hypothesis& probe) const {
-  return break_m_ >= probe.born_m - opt_.break_memory_m || probe.held_m >= opt_.doubt_after_m;
+  return break_open_ || probe.held_m >= opt_.doubt_after_m;
 }
 
 bool ParticleFilter::correct(const sensor::BeamSet& beams, const sensor::BeamSet* scan) {
@@ -293,6 +305,10 @@ bool ParticleFilter::correct(const sensor::BeamSet& beams, const sensor::BeamSet
   consistency_result_ = consistency_.add(scan ? *scan : beams, odom_);
   if (consistency_result_.broke) {
     break_m_ = travelled_;
+    break_open_ = true;
+    history_.clear();  // the scans before it were taken elsewhere
+    settled_id_ = 0;
+    settled_m_ = travelled_;
     ++breaks_;
   }
   updateContradiction(beams);
@@ -335,11 +351,26 @@ bool ParticleFilter::correct(const sensor::BeamSet& beams, const sensor::BeamSet
   }
   lead.probe = false;  // a probe that leads has won
   best_estimate_ = lead.estimate;
+  // A break keeps recovery open until the filter has settled again: one hypothesis has led,
+  // converged and explained the scans as well as tracking usually does, over break_memory_m of
+  // travel (a look-alike place along a corridor fits for a moment, not for metres). The tracked
+  // estimate of a robot that did not jump passes after break_memory_m; a kidnapped robot's
+  // recovery stays open however long its true place takes to be found.
+  if (break_open_) {
+    const bool settled = converged() && lead.fit >= opt_.probe_fit * w_slow_;
+    if (!settled || lead.id != settled_id_) {
+      settled_id_ = settled ? lead.id : 0;
+      settled_m_ = travelled_;
+    } else if (travelled_ - settled_m_ >= opt_.break_memory_m) {
+      break_open_ = false;
+    }
+  }
   if (global_start_ && converged_at_m_ < 0 && converged()) {
     converged_at_m_ = travelled_;
     last_recheck_m_ = travelled_;
   }
-  maybeStartProbe();
+  maybeStartProbe(beams);
+  rememberScan(beams);
   return resampled;
 }
 

@@ -16,7 +16,9 @@
 /// model cannot explain), a probe (a broad hypothesis of random particles) starts beside the
 /// tracked one with a small prior mass, and takes over only if the scans that follow favour it by
 /// more than that prior (a sequential likelihood-ratio test); otherwise it dies out. When tracking
-/// from a known start, a place far from the estimate also needs the scans to say the robot jumped
+/// from a known start a probe is drawn where the scans of the last metres fit (the global start's
+/// density of random poses weighed by them), and may not lead while still spread over the floor.
+/// A place far from the estimate also needs the scans to say the robot jumped
 /// (a break: ScanConsistency) or to have out-explained the estimate over metres: clutter lined up
 /// with other walls elsewhere fits for a room, a kidnapped robot's scans contradict its odometry.
 
@@ -102,9 +104,9 @@ struct FilterOptions {
                                            ///< update, in proportion below: scans from nearly the same pose
                                            ///< repeat the same clutter and map errors, not new evidence [m]
   ScanConsistencyOptions consistency;      ///< a break in the scans: they contradict the odometry
-  double break_memory_m = 2.0;             ///< tracking from a known start (initialize()), a probe may lead only
-                                           ///< when the scans broke at most this much travel before it
-                                           ///< started, or since [m] ...
+  double break_memory_m = 2.0;             ///< tracking from a known start (initialize()), a far probe may lead
+                                           ///< only while a break is open: from the break until one hypothesis
+                                           ///< has led, converged and fitted (probe_fit) over this travel [m] ...
   double doubt_after_m = 4.0;              ///< ... or it out-explained the estimate over this much travel [m]:
                                            ///< a robot in clutter has scans that agree with its odometry,
                                            ///< a kidnapped one has not; a place that lines the clutter up
@@ -112,6 +114,13 @@ struct FilterOptions {
   double jump_m = 2.0;                     ///< the guard holds only places farther than this from the tracked
   double jump_heading = deg2rad(30.0);     ///< estimate [m], or turned more than this [rad]: nearer ones are a
                                            ///< correction odometry can need (a cloud that slid in clutter)
+  bool probe_from_scan = true;             ///< tracking from a known start, a probe keeps the max_particles of
+                                           ///< a global start's random poses that best fit the recent scans:
+  double probe_history_m = 2.0;            ///< those of the last this much travel since the last break [m],
+  int probe_history_scans = 4;             ///< at most this many, evenly spaced (and the current one) [-];
+  int probe_climbs = 256;                  ///< the best this many of them climb on the current scan before
+                                           ///< the max_particles are chosen (the probe's mass takes the draws
+                                           ///< as drawn: climbed poses are no uniform sample) [-]
   double probe_life_m = 8.0;               ///< a probe that has not won after this travel is dropped [m]
   double probe_cooldown_m = 1.0;           ///< travel between the end of a probe and the next [m]
   double recheck_m = 5.0;                  ///< after a global localization converged, a probe every this
@@ -206,7 +215,9 @@ class ParticleFilter {
   Hypothesis makeBroad(std::size_t count, double log_mass);
   void weigh(const sensor::BeamSet& beams);
   void updateContradiction(const sensor::BeamSet& beams);
-  void maybeStartProbe();
+  void maybeStartProbe(const sensor::BeamSet& beams);
+  void rememberScan(const sensor::BeamSet& beams);
+  Hypothesis probeFromScans(std::size_t count, double log_prior, const sensor::BeamSet& beams);
   void organise();  // split, merge, prune, normalise
   bool resample(Hypothesis& h, bool is_best, bool force = false);
   void resetConsistency();
@@ -238,12 +249,25 @@ class ParticleFilter {
   std::size_t relocalizations_ = 0, last_injected_ = 0, probes_ = 0, breaks_ = 0;
   ScanConsistency consistency_;
   ScanConsistencyResult consistency_result_;
-  Pose2 odom_;                // the odometry integrated without noise (frame of the consistency test)
-  double break_m_ = -1e9;     // travel at the last break [m]
-  double step_m_ = 0.0;       // travel since the correct() before [m]
-  double corrected_m_ = 0.0;  // travel at the last correct() [m]
-  std::vector<Pose2> poses_;  // all particles' poses, contiguous, for the model's batch call
+  Pose2 odom_;                    // the odometry integrated without noise (frame of the consistency test)
+  double break_m_ = -1e9;         // travel at the last break [m]
+  bool break_open_ = false;       // a break was seen and the filter has not settled since
+  std::uint64_t settled_id_ = 0;  // after a break: the hypothesis settled since settled_m_ (0: none)
+  double settled_m_ = 0.0;        // [m]
+  double step_m_ = 0.0;           // travel since the correct() before [m]
+  double corrected_m_ = 0.0;      // travel at the last correct() [m]
+  std::vector<Pose2> poses_;      // all particles' poses, contiguous, for the model's batch call
   std::vector<double> ll_;
+  struct RecentScan {
+    sensor::BeamSet beams;
+    Pose2 odom;            // odom_ when it was taken
+    double travelled = 0;  // travelled_ then [m]
+    double novelty = 1;    // its novelty and the filter's log marginal likelihood of it
+    double marginal = 0;
+  };
+  std::vector<RecentScan> history_;  // scans a probe is weighed by (rememberScan)
+  double last_novelty_ = 1.0;        // novelty of the last scan's evidence [-]
+  double last_marginal_ = 0.0;       // log marginal likelihood of the last scan under the filter [-]
 };
 
 /// Low-variance (systematic) resampling: indices of `count` draws from normalised `weights`

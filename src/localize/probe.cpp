@@ -1,0 +1,107 @@
+// Recovery probes of a filter tracked from a known start: drawn where the recent scans fit.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include "glassmap/localize/particle_filter.hpp"
+#include "hypotheses.hpp"
+
+namespace glassmap::localize {
+
+void ParticleFilter::rememberScan(const sensor::BeamSet& beams) {
+  // The scans since the last break (the odometry between them holds), one per
+  // probe_history_m / probe_history_scans of travel, over the last probe_history_m.
+  if (!guarded() || !opt_.probe_from_scan || opt_.probe_history_scans <= 0) return;
+  const double spacing = opt_.probe_history_m / opt_.probe_history_scans;
+  if (!history_.empty() && travelled_ - history_.back().travelled < spacing) return;
+  history_.push_back({beams, odom_, travelled_, last_novelty_, last_marginal_});
+  while (!history_.empty() && travelled_ - history_.front().travelled > opt_.probe_history_m)
+    history_.erase(history_.begin());
+}
+
+Hypothesis ParticleFilter::probeFromScans(std::size_t count, double log_prior, const sensor::BeamSet& beams) {
+  // The probe is the broad hypothesis "the robot is anywhere on the floor" as it would stand had it
+  // started at the oldest remembered scan: as many random poses as a global start draws, each
+  // weighed by the remembered scans (placed back along the odometry) and the current one, and
+  // `count` of them kept by their annealed weights (the untempered rest carried in log_ratio, as a
+  // broad hypothesis does). Its mass takes those scans too. A probe of `count` uniform draws weighed by
+  // nothing holds the robot's place only by luck (500 over a 450 m^2 floor: one in three near it),
+  // and one scan along a corridor fits every place along it.
+  const std::size_t n = std::max(globalParticles(), count);
+  Hypothesis h = makeBroad(n, log_prior);
+  std::vector<Pose2> at(n);
+  std::vector<double> score(n, 0.0), current(n), ll(n);
+  double filter_marginal = 0.0;
+  const auto weighAll = [&](const sensor::BeamSet& b, std::vector<double>& out) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const tbb::blocked_range<std::size_t>& r) {
+      model_.logLikelihoods(std::span<const Pose2>(at).subspan(r.begin(), r.size()), b, &out[r.begin()]);
+    });
+  };
+  for (const RecentScan& s : history_) {
+    const Pose2 back = odom_.inverse() * s.odom;  // that scan's laser pose in the current one's frame
+    for (std::size_t i = 0; i < n; ++i) at[i] = h.particles[i].pose * back;
+    weighAll(s.beams, ll);
+    for (std::size_t i = 0; i < n; ++i) score[i] += s.novelty * ll[i];
+    filter_marginal += s.novelty * s.marginal;
+  }
+  for (std::size_t i = 0; i < n; ++i) at[i] = h.particles[i].pose;
+  weighAll(beams, current);
+  for (std::size_t i = 0; i < n; ++i) score[i] += last_novelty_ * current[i];
+  filter_marginal += last_novelty_ * last_marginal_;
+  // The mass: the scans' marginal likelihood over the floor (the mean over uniform draws) against
+  // that over the filter's hypotheses.
+  h.log_mass = log_prior + detail::logSumExp(score) - std::log(static_cast<double>(n)) - filter_marginal;
+  // The best of them climb to the nearest optimum of the current scan's likelihood and are weighed
+  // again (their place in the cloud, not the mass: a climbed pose is no uniform draw): a random
+  // pose rarely lands within centimetres of the robot, often within a climb's reach.
+  const std::size_t k = std::min<std::size_t>(n, static_cast<std::size_t>(std::max(opt_.probe_climbs, 0)));
+  if (k > 0) {
+    std::vector<std::size_t> order(n);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
+                      [&](std::size_t a, std::size_t b) { return score[a] > score[b]; });
+    order.resize(k);
+    std::vector<Pose2> climbed(k);
+    std::vector<double> cur(k), sc(k);
+    tbb::parallel_for(std::size_t{0}, k, [&](std::size_t j) {
+      Pose2 x = h.particles[order[j]].pose;
+      cur[j] = climb(x, beams);
+      double s = last_novelty_ * cur[j];
+      for (const RecentScan& r : history_)
+        s += r.novelty * model_.logLikelihood(x * (odom_.inverse() * r.odom), r.beams);
+      climbed[j] = x;
+      sc[j] = s;
+    });
+    for (std::size_t j = 0; j < k; ++j)
+      if (sc[j] > score[order[j]]) {
+        h.particles[order[j]].pose = climbed[j];
+        score[order[j]] = sc[j];
+        current[order[j]] = cur[j];
+      }
+  }
+  const double inv_t = 1.0 / std::max(opt_.global_temperature, 1.0);
+  std::vector<double> w(n);
+  for (std::size_t i = 0; i < n; ++i) w[i] = inv_t * score[i];
+  const double norm = detail::logSumExp(w);
+  for (double& v : w) v = std::exp(v - norm);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  const std::vector<std::size_t> kept = lowVarianceResample(w, count, u01(rng_) / static_cast<double>(count));
+  std::vector<Particle> particles;
+  particles.reserve(count);
+  h.log_ratio.clear();
+  h.last_ll.clear();
+  const double log_w = -std::log(static_cast<double>(count));
+  for (std::size_t i : kept) {
+    particles.push_back({h.particles[i].pose, log_w});
+    h.log_ratio.push_back((1.0 - inv_t) * score[i]);
+    h.last_ll.push_back(current[i]);
+  }
+  h.particles = std::move(particles);
+  detail::summarise(h);
+  return h;
+}
+
+}  // namespace glassmap::localize
