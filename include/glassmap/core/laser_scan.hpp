@@ -99,9 +99,9 @@ struct SpooledScans {
   std::size_t block_bytes = 32u << 20;    ///< ranges read back per block [bytes]
 };
 
-/// A whole log: its scans in memory, or (a log larger than the memory budget, see
-/// CarmenReadOptions::spool_directory) on disk. Code that reads every scan goes through
-/// forEachScanBlock, which serves both.
+/// A whole log: its scans in memory, or read through a store (a log larger than the memory budget
+/// kept on disk, see CarmenReadOptions::spool_directory; a log re-centred block by block). Code that
+/// reads every scan goes through forEachScanBlock, which serves both.
 struct LaserLog {
   /// Bytes the log holds in memory (ranges and per-scan records; what a mapping run keeps;
   /// spooled scans: the block a pass reads back and its copy) [bytes].
@@ -111,10 +111,10 @@ struct LaserLog {
     if (spooled) b += 2 * spooled->block_bytes;
     return b;
   }
-  /// Scans in the log, in memory or spooled.
+  /// Scans in the log, in memory or in the store.
   std::size_t scanCount() const;
-  std::vector<LaserScan> scans;               ///< the scans in memory (empty when spooled)
-  std::optional<SpooledScans> spooled;        ///< set when the scans are on disk
+  std::vector<LaserScan> scans;               ///< the scans in memory (empty with a store)
+  std::optional<SpooledScans> spooled;        ///< set when the scans are read through a store
   std::vector<StampedPose> odometry;          ///< ODOM lines
   std::vector<StampedPose> true_poses;        ///< TRUEPOS lines
   std::map<std::string, std::string> params;  ///< PARAM name -> value
