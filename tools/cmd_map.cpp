@@ -9,7 +9,6 @@
 #include "cli_georef.hpp"
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
-#include "glassmap/core/scan_spool.hpp"
 #include "glassmap/io/log.hpp"
 #include "glassmap/io/sensor_profile.hpp"
 #include "glassmap/pipeline/map_files.hpp"
@@ -73,11 +72,11 @@ void run(MapArgs& args) {
     }
   }();
   const double seconds_read = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (const auto* disk = log.spooled ? dynamic_cast<const ScanSpool*>(log.spooled->spool.get()) : nullptr;
-      disk && !args.quiet)
+  const std::uint64_t on_disk = pipeline::logOnDiskBytes(log);
+  if (on_disk > 0 && !args.quiet)
     std::cerr << "glassmap: the log's " << log.scanCount() << " scans need more than a quarter of --max-memory: "
-              << "kept on disk (" << disk->fileBytes() / 1000000 << " MB, an unnamed file in "
-              << disk->directory().string() << ") and read back in blocks by every pass\n";
+              << "kept on disk (" << on_disk / 1000000 << " MB, an unnamed file in "
+              << read.carmen.spool_directory.string() << ") and read back in blocks by every pass\n";
 
   // Options given as names are parsed here, at the edge.
   pipeline::MapOptions& options = args.options;
@@ -114,7 +113,7 @@ void run(MapArgs& args) {
   const std::size_t peak = pipeline::peakMemoryBytes();
 
   const auto& st = result.stats;
-  pipeline::MapRunInfo info{args.log, seconds_read, seconds, peak, {}};
+  pipeline::MapRunInfo info{args.log, seconds_read, seconds, peak, on_disk, {}};
   for (const fs::path& f : files) info.files.push_back(f.filename().string());
   // Written last: a folder with a stats.json holds the complete set it lists.
   cli::writeJsonFile(dir / pipeline::kMapManifest, pipeline::mapStatsJson(result, options, info));

@@ -152,6 +152,7 @@ void bindMap(py::module_& m) {
         o.get("heuristic_min_hits", mp.heuristic.min_hits);
         o.get("heuristic_min_misses", mp.heuristic.min_other_misses);
         if (const py::object s = o.take("sensor")) options.sensor = profileFrom(s, "map_log(): option 'sensor'");
+        const py::object spool_dir = o.take("spool_dir");
         if (o.get("no_calibrate", flag)) options.calibrate = !flag;
         o.get("profile_lobe", options.profile_lobe);
         o.range("calibration_rounds", options.calibration_rounds, 1, 5);
@@ -162,6 +163,10 @@ void bindMap(py::module_& m) {
         LogReadOptions read;
         read.carmen.laser_id = laser_id;
         read.carmen.max_memory_bytes = static_cast<std::size_t>(max_memory_mb * 1e6);  // the log counts too
+        // A log read here over a quarter of the budget is kept on disk, as `glassmap map` does.
+        read.carmen.spool_above_bytes = read.carmen.max_memory_bytes / 4;
+        read.carmen.spool_directory =
+            spool_dir ? toPath(spool_dir, "map_log(): option 'spool_dir'") : std::filesystem::temp_directory_path();
         // Names are parsed here, at the edge, as the command line does.
         options.method = pipeline::parseMapMethod(method);
         options.mrf.solver = mrf::parseSolver(solver);
@@ -179,6 +184,7 @@ void bindMap(py::module_& m) {
         run->info.seconds_read = seconds_read;
         run->info.seconds_total = secondsSince(t0);
         run->info.peak_memory_bytes = pipeline::peakMemoryBytes();
+        run->info.log_on_disk_bytes = pipeline::logOnDiskBytes(log->log);
         return run;
       },
       py::arg("log"),
@@ -189,7 +195,9 @@ void bindMap(py::module_& m) {
       "resolution [m], max_memory [MB], angle_bin [deg], range_cap, no_return_range, miss_margin [m],\n"
       "laser_id, sigmoid_margin, direct_sigma, direct_peak, prior_glass, prior_occupied, p_hit_empty,\n"
       "p_hit_occupied, min_glass_hits, heuristic_min_hits, heuristic_min_misses, sensor (a profile\n"
-      "file or dict), no_calibrate, profile_lobe, calibration_rounds. Returns a MapResult.");
+      "file or dict), no_calibrate, profile_lobe, calibration_rounds, spool_dir (where a log read from a\n"
+      "path whose scans need more than a quarter of max_memory is kept, in an unnamed temporary file;\n"
+      "default: the system's temporary folder, TMPDIR). Returns a MapResult.");
 }
 
 }  // namespace glassmap::python

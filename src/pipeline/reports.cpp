@@ -9,6 +9,7 @@
 
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
+#include "glassmap/core/scan_spool.hpp"
 
 namespace glassmap::pipeline {
 namespace {
@@ -189,6 +190,11 @@ nlohmann::json mapOptionsJson(const MapOptions& options) {
             {"occupied_hit_ratio", h.occupied_hit_ratio}}}};
 }
 
+std::uint64_t logOnDiskBytes(const LaserLog& log) {
+  const auto* disk = log.spooled ? dynamic_cast<const ScanSpool*>(log.spooled->spool.get()) : nullptr;
+  return disk ? disk->fileBytes() : 0;
+}
+
 nlohmann::json mapStatsJson(const MapResult& result, const MapOptions& options, const MapRunInfo& run) {
   const glass::CellEvidence& e = result.evidence;
   const vector::VectorizeResult& floorplan = result.floorplan;
@@ -196,6 +202,7 @@ nlohmann::json mapStatsJson(const MapResult& result, const MapOptions& options, 
   const glass::PhantomStats& phantom = result.phantoms;
   const auto& st = result.stats;
   nlohmann::json j = {{"log", run.log},
+                      {"log_on_disk_bytes", run.log_on_disk_bytes},
                       {"scans", st.scans},
                       {"beams", st.beams},
                       {"hit_beams", st.hit_beams},

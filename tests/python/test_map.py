@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import glassmap
+from conftest import SOURCE_DIR, run_cli
 
 # Figures of stats.json that differ between two runs of the same map (times, memory, paths).
 RUN_DEPENDENT = {"seconds", "peak_memory_bytes", "log", "files"}
@@ -108,3 +109,19 @@ def test_errors_name_the_file(tmp_path):
     with pytest.raises(glassmap.Error, match="missing.clf") as info:
         glassmap.map_log(missing)
     assert isinstance(info.value, RuntimeError) and info.value.file == str(missing)
+
+
+def test_a_log_over_a_quarter_of_max_memory_is_kept_on_disk(tmp_path):
+    # 60 s of glass-corridor: about 2.6 MB of scans; its grid needs about 4 MB. In 6.3 MB the log
+    # held in memory leaves too little for the grid; kept on disk (two 1 MB blocks) it fits.
+    run_cli("simulate", SOURCE_DIR / "maps" / "glass-corridor" / "scene.yaml", "-o", tmp_path / "sim", "--seed", 3,
+            "--duration", 60, "-q")
+    spool = tmp_path / "spool"
+    spool.mkdir()
+    in_memory = glassmap.map_log(tmp_path / "sim" / "log.clf")
+    on_disk = glassmap.map_log(tmp_path / "sim" / "log.clf", max_memory=6.3, spool_dir=spool)
+    assert in_memory.stats["log_on_disk_bytes"] == 0
+    assert on_disk.stats["log_on_disk_bytes"] > 2_000_000
+    assert np.array_equal(in_memory.labels, on_disk.labels)
+    assert comparable(on_disk.stats)["glass_cells"] == comparable(in_memory.stats)["glass_cells"]
+    assert not any(spool.iterdir())  # an unnamed file: nothing left

@@ -4,6 +4,7 @@
 /// sensor profile as JSON. One home, so `glassmap map` and `glassmap.map_log` report the same.
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -37,8 +38,13 @@ struct MapRunInfo {
   double seconds_read = 0.0;   ///< reading the log [s]
   double seconds_total = 0.0;  ///< the whole run, reading and writing included [s]
   std::size_t peak_memory_bytes = 0;
-  std::vector<std::string> files;  ///< file names written (none: no "files" key)
+  std::uint64_t log_on_disk_bytes = 0;  ///< the log's scans kept on disk (logOnDiskBytes; 0: in memory)
+  std::vector<std::string> files;       ///< file names written (none: no "files" key)
 };
+
+/// Bytes of the log's scans kept on disk (a log too large for memory, core/scan_spool.hpp); 0 when
+/// they are in memory.
+std::uint64_t logOnDiskBytes(const LaserLog& log);
 
 /// stats.json of a map run (`glassmap map`): grid, counts, times, sensor profile, MRF, mirror
 /// phantoms, pane fit, segments, options and files.
