@@ -114,7 +114,7 @@ class BorrowedScans final : public ScanStore {
     std::size_t first = 0, bytes = 0;
     for (std::size_t i = 0; i < scans_.size(); ++i) {
       block.push_back(scans_[i]);
-      bytes += sizeof(LaserScan) + scans_[i].ranges.size() * sizeof(float);
+      bytes += scans_[i].memoryBytes();
       if (bytes >= block_bytes || i + 1 == scans_.size()) {
         f(block, first);
         first = i + 1;

@@ -133,7 +133,7 @@ void ScanSpool::forEachBlock(std::size_t block_bytes,
     s.has_laser_pose = h.has_laser_pose != 0;
     s.ranges.resize(h.beams);
     read(s.ranges.data(), h.beams * sizeof(float));
-    in_block += h.beams * sizeof(float) + sizeof(LaserScan);
+    in_block += s.memoryBytes();
     block.push_back(std::move(s));
     ++index;
     if (in_block >= block_bytes || index == count_) {

@@ -385,7 +385,7 @@ LaserLog readCarmenLog(const fs::path& path, const CarmenReadOptions& options) {
     if (options.detect_max_range_code)
       for (std::size_t i = 0; i < s.ranges.size(); ++i) codes.add(s.laser_id, s.ranges[i], i);
     if (spool) return spool->append(s);
-    bytes += sizeof(LaserScan) + s.ranges.size() * sizeof(float);
+    bytes += s.memoryBytes();
     if (!options.spool_directory.empty() && bytes > options.spool_above_bytes) {
       // Too large for memory: the scans so far and every later one go to disk.
       spool = std::make_shared<ScanSpool>(options.spool_directory);
@@ -406,9 +406,7 @@ LaserLog readCarmenLog(const fs::path& path, const CarmenReadOptions& options) {
   log.stats = forEachCarmenRecord(path, cb, options);
   if (spool) {
     spool->flush();
-    // Blocks read back at half the in-memory limit (1-32 MB): the passes stay within it.
-    const std::size_t block = std::clamp<std::size_t>(options.spool_above_bytes / 2, 1u << 20, 32u << 20);
-    log.spooled = SpooledScans{spool, Vec2::Zero(), {}, block};
+    log.spooled = SpooledScans{spool, Vec2::Zero(), {}, spoolBlockBytes(options.spool_above_bytes)};
   }
   if (options.detect_max_range_code) applyMaxRangeCodes(log, codes);
   if (options.require_scans && log.scanCount() == 0) {

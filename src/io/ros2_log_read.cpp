@@ -182,7 +182,7 @@ LaserLog readRos2Log(const fs::path& path, const LogReadOptions& options, LogRea
           const auto f = std::find(frames.begin(), frames.end(), frame);
           r.frame = static_cast<std::size_t>(f - frames.begin());
           if (f == frames.end()) frames.push_back(frame);
-          bytes += sizeof(LaserScan) + r.scan.ranges.size() * sizeof(float);
+          bytes += r.scan.memoryBytes();
           if (!raw_spool && !co.spool_directory.empty() && bytes > co.spool_above_bytes) {
             raw_spool = std::make_shared<ScanSpool>(co.spool_directory);
             for (const RawScan& kept : raw) {
@@ -329,7 +329,7 @@ LaserLog readRos2Log(const fs::path& path, const LogReadOptions& options, LogRea
     // Placed block by block from the raw spool into the log's own.
     raw_spool->flush();
     auto placed = std::make_shared<ScanSpool>(co.spool_directory);
-    const std::size_t block = std::clamp<std::size_t>(co.spool_above_bytes / 2, 1u << 20, 32u << 20);
+    const std::size_t block = spoolBlockBytes(co.spool_above_bytes);
     raw_spool->forEachBlock(block, [&](std::vector<LaserScan>& scans, std::size_t first) {
       for (std::size_t i = 0; i < scans.size(); ++i)
         if (place(scans[i], raw_frames[first + i])) placed->append(scans[i]);

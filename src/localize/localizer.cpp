@@ -67,9 +67,12 @@ LocalizeResult localizeLog(const LaserLog& log, sensor::SensorModel& model, cons
         filter.predict(delta);
       }
       const sensor::BeamSet beams = sensor::makeBeamSet(scan, options.beams);
-      const sensor::BeamSet whole = sensor::makeBeamSet(scan, 0);  // the scans compared with each other
+      // The scans are compared with each other whole (beams already holds them all when it is not
+      // a subset).
+      const bool subset = options.beams > 0 && static_cast<std::size_t>(options.beams) < scan.ranges.size();
+      const sensor::BeamSet whole = subset ? sensor::makeBeamSet(scan, 0) : sensor::BeamSet{};
       particle_sum += static_cast<double>(filter.size());
-      if (filter.correct(beams, &whole)) ++result.resamplings;
+      if (filter.correct(beams, subset ? &whole : nullptr)) ++result.resamplings;
       result.injected += filter.lastInjected();
       ++result.updates;
       odom_at_update = odom;

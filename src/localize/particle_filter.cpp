@@ -124,11 +124,11 @@ void ParticleFilter::initializeGlobal() {
 void ParticleFilter::predict(const OdometryDelta& delta) {
   travelled_ += std::abs(delta.trans);
   moved_ += std::abs(delta.trans) + 0.5 * (std::abs(delta.rot1) + std::abs(delta.rot2));
-  odom_ = odom_ * Pose2(delta.trans * Vec2(std::cos(delta.rot1), std::sin(delta.rot1)), delta.rot1 + delta.rot2);
+  const Pose2 step(delta.trans * Vec2(std::cos(delta.rot1), std::sin(delta.rot1)), delta.rot1 + delta.rot2);
+  odom_ = odom_ * step;
   for (Hypothesis& h : hyps_) {
     for (Particle& p : h.particles) p.pose = sampleMotionOdometry(p.pose, delta, opt_.noise, rng_);
-    h.estimate =
-        h.estimate * Pose2(delta.trans * Vec2(std::cos(delta.rot1), std::sin(delta.rot1)), delta.rot1 + delta.rot2);
+    h.estimate = h.estimate * step;
   }
 }
 
@@ -278,7 +278,6 @@ void ParticleFilter::resetConsistency() {
   consistency_.reset();
   consistency_result_ = {};
   odom_ = Pose2();
-  break_m_ = -1e9;
   break_open_ = false;
   history_.clear();
   corrected_m_ = travelled_;
@@ -304,11 +303,9 @@ bool ParticleFilter::correct(const sensor::BeamSet& beams, const sensor::BeamSet
   // The scans against each other: a break says the robot (or its odometry) jumped.
   consistency_result_ = consistency_.add(scan ? *scan : beams, odom_);
   if (consistency_result_.broke) {
-    break_m_ = travelled_;
     break_open_ = true;
     history_.clear();  // the scans before it were taken elsewhere
-    settled_id_ = 0;
-    settled_m_ = travelled_;
+    settled_id_ = 0;   // settled_m_ restarts at the next lead (below)
     ++breaks_;
   }
   updateContradiction(beams);

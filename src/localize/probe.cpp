@@ -40,9 +40,12 @@ Hypothesis ParticleFilter::probeFromScans(std::size_t count, double log_prior, c
       model_.logLikelihoods(std::span<const Pose2>(at).subspan(r.begin(), r.size()), b, &out[r.begin()]);
     });
   };
-  for (const RecentScan& s : history_) {
-    const Pose2 back = odom_.inverse() * s.odom;  // that scan's laser pose in the current one's frame
-    for (std::size_t i = 0; i < n; ++i) at[i] = h.particles[i].pose * back;
+  // Each remembered scan's laser pose in the current one's frame.
+  std::vector<Pose2> backs;
+  for (const RecentScan& s : history_) backs.push_back(odom_.inverse() * s.odom);
+  for (std::size_t m = 0; m < history_.size(); ++m) {
+    const RecentScan& s = history_[m];
+    for (std::size_t i = 0; i < n; ++i) at[i] = h.particles[i].pose * backs[m];
     weighAll(s.beams, ll);
     for (std::size_t i = 0; i < n; ++i) score[i] += s.novelty * ll[i];
     filter_marginal += s.novelty * s.marginal;
@@ -70,8 +73,8 @@ Hypothesis ParticleFilter::probeFromScans(std::size_t count, double log_prior, c
       Pose2 x = h.particles[order[j]].pose;
       cur[j] = climb(x, beams);
       double s = last_novelty_ * cur[j];
-      for (const RecentScan& r : history_)
-        s += r.novelty * model_.logLikelihood(x * (odom_.inverse() * r.odom), r.beams);
+      for (std::size_t m = 0; m < history_.size(); ++m)
+        s += history_[m].novelty * model_.logLikelihood(x * backs[m], history_[m].beams);
       climbed[j] = x;
       sc[j] = s;
     });

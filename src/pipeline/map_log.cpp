@@ -32,8 +32,8 @@ struct LocalLog {
   const LaserLog* log;
   explicit LocalLog(const LaserLog& input) : offset(localOffset(input)), log(&input) {
     if (offset.isZero()) return;
-    shifted.spooled =
-        input.spooled ? *input.spooled : SpooledScans{borrowScans(input.scans), Vec2::Zero(), {}, 32u << 20};
+    shifted.spooled = input.spooled.value_or(SpooledScans{});
+    if (!input.spooled) shifted.spooled->spool = borrowScans(input.scans);
     shifted.spooled->shift += offset;
     log = &shifted;
   }

@@ -9,7 +9,6 @@
 
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
-#include "glassmap/core/scan_spool.hpp"
 
 namespace glassmap::pipeline {
 namespace {
@@ -190,10 +189,7 @@ nlohmann::json mapOptionsJson(const MapOptions& options) {
             {"occupied_hit_ratio", h.occupied_hit_ratio}}}};
 }
 
-std::uint64_t logOnDiskBytes(const LaserLog& log) {
-  const auto* disk = log.spooled ? dynamic_cast<const ScanSpool*>(log.spooled->spool.get()) : nullptr;
-  return disk ? disk->fileBytes() : 0;
-}
+std::uint64_t logOnDiskBytes(const LaserLog& log) { return log.spooled ? log.spooled->spool->bytesOnDisk() : 0; }
 
 nlohmann::json mapStatsJson(const MapResult& result, const MapOptions& options, const MapRunInfo& run) {
   const glass::CellEvidence& e = result.evidence;

@@ -42,6 +42,8 @@ struct LaserScan {
     const float r = ranges[i];
     return std::isfinite(r) && r < max_range;
   }
+  /// Bytes the scan holds in memory (its record and its ranges) [bytes].
+  std::size_t memoryBytes() const { return sizeof(LaserScan) + ranges.size() * sizeof(float); }
   /// Field of view covered by the beams [rad].
   double fieldOfView() const { return ranges.empty() ? 0.0 : static_cast<double>(ranges.size() - 1) * angular_step; }
 };
@@ -78,7 +80,8 @@ struct LogReadStats {
 class ScanStore {
  public:
   virtual ~ScanStore() = default;
-  virtual std::size_t size() const = 0;  ///< scans
+  virtual std::size_t size() const = 0;                    ///< scans
+  virtual std::uint64_t bytesOnDisk() const { return 0; }  ///< what the store keeps on disk [bytes]
   /// Calls f(block, first) for consecutive blocks of the scans, each holding about `block_bytes`
   /// of ranges (at least one scan); `first` is the index of the block's first scan. The block is
   /// the caller's copy.
@@ -106,8 +109,8 @@ struct LaserLog {
   /// Bytes the log holds in memory (ranges and per-scan records; what a mapping run keeps;
   /// spooled scans: the block a pass reads back and its copy) [bytes].
   std::size_t memoryBytes() const {
-    std::size_t b = scans.size() * sizeof(LaserScan) + (odometry.size() + true_poses.size()) * sizeof(StampedPose);
-    for (const LaserScan& s : scans) b += s.ranges.size() * sizeof(float);
+    std::size_t b = (odometry.size() + true_poses.size()) * sizeof(StampedPose);
+    for (const LaserScan& s : scans) b += s.memoryBytes();
     if (spooled) b += 2 * spooled->block_bytes;
     return b;
   }

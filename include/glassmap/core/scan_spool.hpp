@@ -6,6 +6,7 @@
 /// soon as it is made, so nothing stays on disk after the process ends, however it ends. Values go
 /// through bit for bit: a pass over a spooled log sees the very scans a log in memory holds.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -15,6 +16,12 @@
 #include "glassmap/core/laser_scan.hpp"
 
 namespace glassmap {
+
+/// The block size a spooled log is read back in, for a log spooled above `spool_above_bytes` in
+/// memory: half of that, within 1-32 MB, so that the passes stay within the reader's limit [bytes].
+inline std::size_t spoolBlockBytes(std::size_t spool_above_bytes) {
+  return std::clamp<std::size_t>(spool_above_bytes / 2, std::size_t{1} << 20, std::size_t{32} << 20);
+}
 
 class ScanSpool final : public ScanStore {
  public:
@@ -29,8 +36,8 @@ class ScanSpool final : public ScanStore {
   /// Writes out what append buffered; call before reading. Throws Error as append.
   void flush();
 
-  std::size_t size() const { return count_; }           ///< scans appended
-  std::uint64_t fileBytes() const { return written_; }  ///< bytes on disk (after flush)
+  std::size_t size() const { return count_; }                      ///< scans appended
+  std::uint64_t bytesOnDisk() const override { return written_; }  ///< written so far (all after flush)
   const std::filesystem::path& directory() const { return directory_; }
 
   /// The scans in append order, block by block (ScanStore::forEachBlock). Needs flush().

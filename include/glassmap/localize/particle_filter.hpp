@@ -250,7 +250,6 @@ class ParticleFilter {
   ScanConsistency consistency_;
   ScanConsistencyResult consistency_result_;
   Pose2 odom_;                    // the odometry integrated without noise (frame of the consistency test)
-  double break_m_ = -1e9;         // travel at the last break [m]
   bool break_open_ = false;       // a break was seen and the filter has not settled since
   std::uint64_t settled_id_ = 0;  // after a break: the hypothesis settled since settled_m_ (0: none)
   double settled_m_ = 0.0;        // [m]
