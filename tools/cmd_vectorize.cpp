@@ -125,6 +125,7 @@ void run(const VectorizeArgs& args) {
       {"regularized", s.regularized},
       {"corners", s.corners},
       {"dropped", s.dropped},
+      {"glass_continued", s.continued},
       {"dominant_axis_deg", s.dominant_axis_deg},
       {"directions_deg", s.directions_deg},
       {"lines", s.lines},

@@ -129,6 +129,53 @@ double log10FalseAlarms(const Piece& p, const CellCloud& cloud, double band, dou
   return log10_tests + logPoissonTail(p.ids.size(), density * band_cells) / std::log(10.0);
 }
 
+// A run too short to stand out alone may continue a pane already accepted: the cells of a pane
+// that is not aligned with the 1-degree vote lines, or whose normals a wide lobe biases, fall to
+// several lines, and a short tail of it is then tested alone against every line the grid could
+// hold. Where it lies on an accepted piece's line (every cell in the piece's band, normals
+// compatible) and continues it (across at most merge_gap, or max_bridge not seen free), it is tested again as what it is, one of the few
+// continuations of the accepted pieces: the same tail probability, counted over (rejected runs x
+// accepted pieces) tests instead of the whole grid's lines; a run that passes joins the piece.
+void acceptContinuations(std::vector<Piece>& rejected, std::size_t first, const CellCloud& cloud,
+                         const MaterialOptions& mo, const Context& ctx, std::vector<Piece>& out) {
+  const double band = 2.0 * mo.max_distance;  // the band a piece claims, its shadow included
+  // A run's normal labels may all be biased alike (a wide lobe returns off the normal, and the MRF
+  // makes neighbouring labels agree): twice the vote's angle tolerance, still far from a corner's.
+  const double cos_join = std::cos(deg2rad(std::min(45.0, 2.0 * mo.max_angle_deg)));
+  const double cos_max = std::cos(deg2rad(mo.max_angle_deg));
+  const double log10_tests =
+      std::log10(static_cast<double>(std::max<std::size_t>(1, rejected.size() * (out.size() - first))));
+  // r lies on a's line within max_bridge of its end, across a gap not seen free (a door stays open).
+  auto continues = [&](const Piece& r, const Piece& a) {
+    const Vec2 n = a.normal();
+    for (const std::uint32_t i : r.ids)
+      if (std::abs((cloud.points[i] - a.c).dot(n)) > band || std::abs(cloud.normals[i].dot(n)) < cos_join) return false;
+    const double r0 = std::min((r.a() - a.c).dot(a.d), (r.b() - a.c).dot(a.d));
+    const double r1 = std::max((r.a() - a.c).dot(a.d), (r.b() - a.c).dot(a.d));
+    const double gap = std::max(r0 - a.t1, a.t0 - r1);
+    return gap <= mo.merge_gap || (gap <= mo.max_bridge && unseenGap(a, r0 > a.t1 ? a.t1 : r1, gap, ctx));
+  };
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (Piece& r : rejected) {
+      if (r.ids.empty()) continue;
+      std::size_t k = first;
+      while (k < out.size() && !continues(r, out[k])) ++k;
+      if (k == out.size() || log10FalseAlarms(r, cloud, mo.max_distance, ctx.opt.glass_background_ring, cos_max,
+                                              log10_tests) >= ctx.opt.glass_log10_false_alarms)
+        continue;
+      // One pane: its cells join the piece it continues (their own short line is too uncertain
+      // in direction to be merged later).
+      out[k].ids.insert(out[k].ids.end(), r.ids.begin(), r.ids.end());
+      refit(out[k], cloud, Material::Glass, ctx);
+      r.ids.clear();
+      ++ctx.stats.continued;
+      grew = true;
+    }
+  }
+  for (const Piece& r : rejected) ctx.stats.dropped += !r.ids.empty();
+}
+
 }  // namespace
 
 void glassPiecesByVoting(const CellCloud& cloud, const MaterialOptions& mo, const Context& ctx,
@@ -160,6 +207,8 @@ void glassPiecesByVoting(const CellCloud& cloud, const MaterialOptions& mo, cons
   const double log10_tests = 2.5 * std::log10(static_cast<double>(std::max<std::size_t>(observed, 1)));
   const double cos_max = std::cos(deg2rad(mo.max_angle_deg));
   const auto minCells = static_cast<std::int32_t>(mo.min_cells);
+  const std::size_t first = out.size();
+  std::vector<Piece> rejected;  // runs that did not stand out alone
   for (;;) {
     int a = 0, r = 0;
     if (acc.best(a, r) < minCells) break;
@@ -240,10 +289,11 @@ void glassPiecesByVoting(const CellCloud& cloud, const MaterialOptions& mo, cons
       if (meaningful) {
         out.push_back(std::move(p));
       } else {
-        ++ctx.stats.dropped;
+        rejected.push_back(std::move(p));
       }
     }
   }
+  acceptContinuations(rejected, first, cloud, mo, ctx, out);
 }
 
 }  // namespace glassmap::vector::detail

@@ -75,6 +75,7 @@ void glassPiecesByVoting(const CellCloud& cloud, const MaterialOptions& mo, cons
 // merge.cpp
 void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material material, const MaterialOptions& mo,
                     const Context& ctx);
+bool unseenGap(const Piece& p, double t, double len, const Context& ctx);
 void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Context& ctx);
 void compact(std::vector<Piece>& pieces);
 // filter.cpp

@@ -13,10 +13,10 @@ namespace glassmap::vector {
 namespace {
 
 // A grid of empty cells with every `step`-th cell of a pane from a to b set to glass (its normal
-// label), starting at cell `phase`.
-void drawSparsePane(LabelGrid& g, const Vec2& a, const Vec2& b, int step, int phase = 0) {
+// label, turned by `label_bias_deg`), starting at cell `phase`.
+void drawSparsePane(LabelGrid& g, const Vec2& a, const Vec2& b, int step, int phase = 0, double label_bias_deg = 0.0) {
   const Vec2 d = (b - a).normalized();
-  const double normal = std::atan2(d.x(), -d.y());
+  const double normal = std::atan2(d.x(), -d.y()) + deg2rad(label_bias_deg);
   const std::uint8_t code = glassCodeOf(normal, g.angle_bin_deg);
   const int n = static_cast<int>((b - a).norm() / g.resolution);
   for (int k = phase; k <= n; k += step) {
@@ -84,6 +84,30 @@ TEST(GlassLines, ADoorGapInADensePaneStaysOpenButASparsePaneIsNotCut) {
   for (const MapSegment& s : glass) ++(s.a.y() < 3.0 ? low : high);
   EXPECT_EQ(low, 2);
   EXPECT_EQ(high, 1);
+}
+
+// The end of a pane seen only obliquely: a short run of cells whose normal labels are all biased
+// alike (a wide lobe returns off the normal, the MRF makes the labels agree) is too short to stand
+// out alone among every line of the grid, but continues the pane: it joins it. Across a gap seen
+// free (a door), the same run stays out.
+TEST(GlassLines, AShortBiasedTailContinuesItsPane) {
+  const double angle = deg2rad(8.0);
+  const Vec2 d(std::cos(angle), std::sin(angle)), start(1.0, 3.0);
+  LabelGrid g = emptyGrid(10.0, 6.0);
+  drawSparsePane(g, start, start + 3.0 * d, 1);                     // the pane seen well
+  drawSparsePane(g, start + 3.2 * d, start + 3.6 * d, 1, 0, 18.0);  // its tail, labels 18 deg off
+  const auto glass = glassOf(vectorize(g).map);
+  ASSERT_EQ(glass.size(), 1u);
+  const double far_end = std::max((glass[0].a - start).dot(d), (glass[0].b - start).dot(d));
+  EXPECT_GT(far_end, 3.5) << "the tail was not joined";
+  EXPECT_LT(directionErrorDeg(glass[0], angle), 1.5);
+
+  // The same tail 0.6 m on, beyond a gap seen free: a door, not an unseen stretch of the pane.
+  LabelGrid h = emptyGrid(10.0, 6.0);
+  drawSparsePane(h, start, start + 3.0 * d, 1);
+  drawSparsePane(h, start + 3.6 * d, start + 4.0 * d, 1, 0, 18.0);
+  for (const MapSegment& s : glassOf(vectorize(h).map))
+    EXPECT_LT(std::max((s.a - start).dot(d), (s.b - start).dot(d)), 3.1) << "joined across a door";
 }
 
 TEST(GlassLines, ScatteredGlassCellsMakeNoPane) {

@@ -129,6 +129,7 @@ struct VectorizeStats {
   std::size_t regularized = 0;                  ///< segments rotated onto an axis
   std::size_t corners = 0;                      ///< segment ends moved to close a corner or T
   std::size_t dropped = 0;                      ///< pieces dropped (too short, too few cells, blob)
+  std::size_t continued = 0;                    ///< glass runs kept as the continuation of an accepted pane
   double dominant_axis_deg = 0.0;               ///< the floor's dominant wall direction in [0, 90) [deg]
   std::vector<double> directions_deg;           ///< structure: the wall directions found in [0, 180) [deg]
   std::size_t lines = 0;                        ///< structure: wall lines (pieces grouped by direction and offset)
