@@ -12,7 +12,9 @@ room of maps/glass-room turned ANGLE degrees, drawn by maps/make_floorplans.py),
 Modes (--modes): default (`glassmap map` as is: calibrated, MRF), direct (`--method direct`),
 uncalibrated (`--no-calibrate`), oracle (`--sensor truth.yaml --profile-lobe`: the simulated laser's
 own numbers), raw (the default without the phantom test and the pane fit of the cells), sparse
-(`--sparse-panes`: the search for panes too faint for the classifiers), direct-sparse (both).
+(`--sparse-panes`: the search for panes too faint for the classifiers), direct-sparse (both),
+mrf-w1 / mrf-w4 (the default with `--mrf-weight 1` / `4`: the MRF weight before stop 28, and a
+stronger one).
 
 Usage: tools/sensor_sweep.py [--build build] [--seed 1] [--rate 10] [--out out/sensor_sweep]
          [--profiles a,b] [--modes default,direct] [-j 2] [scene ...]
@@ -34,7 +36,7 @@ MODES = ["default", "direct", "uncalibrated", "oracle"]
 MODE_ARGS = {"default": [], "direct": ["--method", "direct"], "uncalibrated": ["--no-calibrate"],
              "oracle": ["--profile-lobe"], "lobe": ["--profile-lobe"], "raw": ["--keep-phantoms", "--keep-unfitted-glass"],
              "direct-raw": ["--method", "direct", "--keep-phantoms", "--keep-unfitted-glass"],
-             "sparse": ["--sparse-panes"], "direct-sparse": ["--method", "direct", "--sparse-panes"]}
+             "sparse": ["--sparse-panes"], "mrf-w1": ["--mrf-weight", "1"], "mrf-w4": ["--mrf-weight", "4"], "direct-sparse": ["--method", "direct", "--sparse-panes"]}
 # Lasers that are no named profile: scene keys laid over the scene's laser and glass.
 CUSTOM = {
     "noisy-fine": {"laser": "{preset: hokuyo-utm30lx, rate: 10, resolution_deg: 0.25, range_sigma: 0.03, "
