@@ -224,13 +224,22 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
     walks.clear();
     for (std::size_t i = 0; i < nb; ++i) {
       const auto beam = static_cast<std::uint32_t>(i);
+      // The mirrored mode's expected range is d_g + d_o, d_o > 0: for a reading z < z_max only
+      // d_o up to z - d_g + kHitReach sigma can make its density non-zero (Mixture::hitDensity
+      // is exactly 0 beyond), so the mirrored ray goes no further, and not at all when that is
+      // not ahead: the same p as the full cast, bit for bit. (The paper variant's Gaussians have
+      // no cutoff; the transmitted ray's elongation can be negative: both cast in full.)
+      const double z = beams.ranges[i];
+      const double reach = variant_ == Variant::Mixture && z < max_range ? z + Mixture::kHitReach * mix_.sigma : kInf;
       for (std::size_t g = h.beam_start[i]; g < h.beam_start[i + 1]; ++g) {
         const std::int32_t seg = h.pane[g];
         const Vec2 dir(h.ux[g], h.uy[g]);
         const std::uint32_t k = h.ray[g];
         const Vec2 p = Vec2(s.ox[k], s.oy[k]) + h.dg[g] * dir;
         const auto who = static_cast<std::uint32_t>(g);
-        if (h.wn[g] > kNegligible) s.mirror.add(p, mirrored(seg, dir), max_range - h.dg[g], seg, who, beam);
+        const double mirror_range = std::min(max_range, reach) - h.dg[g];
+        if (h.wn[g] > kNegligible && mirror_range > 0)
+          s.mirror.add(p, mirrored(seg, dir), mirror_range, seg, who, beam);
         if (h.wr[g] > kNegligible && params_.max_panes >= 1) {
           RayHit hit;
           hit.range = h.dg[g];

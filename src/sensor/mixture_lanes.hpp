@@ -18,6 +18,7 @@ struct MixtureLanes {
   double sigma = 0, norm = 0;     ///< hit sigma [m] and 1 / (sqrt(2 pi) sigma) [1/m]
   double lambda = 0;              ///< short-reading rate [1/m]
   double short_numerator = 0;     ///< lambda exp(-lambda z) [1/m]
+  double cutoff2 = 80;            ///< Mixture::kHitCutoff2 [-]
 };
 
 /// p[k] for expected range e[k], k in [0, n). Where the hit density's truncation factor is not 1

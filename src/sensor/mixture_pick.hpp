@@ -46,6 +46,7 @@ inline MixtureLanes lanesFor(const Mixture& mix, double z, double z_max, double 
   m.norm = 1.0 / (std::sqrt(2.0 * kPi) * mix.sigma);
   m.lambda = mix.lambda_short;
   m.short_numerator = short_numerator;
+  m.cutoff2 = Mixture::kHitCutoff2;
   return m;
 }
 
