@@ -87,5 +87,15 @@ void testSegmentAvx512(double* best, std::int64_t* id, const double* ox, const d
   testSegmentLanes(best, id, ox, oy, ux, uy, skip, n, ax, ay, dx, dy, seg_id);
 }
 
+void groupSetupAvx512(const double* ox, const double* oy, const double* ux, const double* uy, const double* max_range,
+                      double* best, std::size_t n, std::size_t padded, GroupStats& stats) {
+  groupSetupLanes(ox, oy, ux, uy, max_range, best, n, padded, stats);
+}
+
+void groupConeAvx512(const double* ox, const double* oy, const double* ux, const double* uy, std::size_t n,
+                     std::size_t padded, double cx, double cy, double ax, double ay, double& cos_a, double& radius2) {
+  groupConeLanes(ox, oy, ux, uy, n, padded, cx, cy, ax, ay, cos_a, radius2);
+}
+
 }  // namespace glassmap::detail
 #endif
