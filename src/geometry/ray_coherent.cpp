@@ -249,6 +249,15 @@ void RayCaster::castGroups(const RayBatch& rays, const std::size_t* group_end, s
               if (seen == g.stamp) continue;
               seen = g.stamp;
               const Seg4& s = flat_[e];
+              // Every ray point lies in the wedge x >= -r, |l| <= r + (x + r) tan a (axial x,
+              // lateral l): a segment whose two ends lie beyond one of those three lines (with
+              // a margin for rounding) misses all the rays, untested.
+              const double ex = s.ax - cx, ey = s.ay - cy, fx = ex + s.dx, fy = ey + s.dy;
+              const double xa = ex * ux + ey * uy, xb = fx * ux + fy * uy;
+              const double la = ex * nxv + ey * nyv, lb = fx * nxv + fy * nyv;
+              const double wa = radius + (xa + radius) * tan_a + kMargin, wb = radius + (xb + radius) * tan_a + kMargin;
+              if ((la > wa && lb > wb) || (-la > wa && -lb > wb) || (xa < -radius - kMargin && xb < -radius - kMargin))
+                continue;
               test(g.best.data(), g.id.data(), g.ox.data(), g.oy.data(), g.ux.data(), g.uy.data(), g.skip.data(),
                    padded, s.ax, s.ay, s.dx, s.dy, flat_ids_[e]);
             }
