@@ -97,9 +97,9 @@ struct Hits {
 };
 
 struct Scratch {
-  std::vector<double> ox, oy, ux, uy, range, p, short_num;
+  std::vector<double> ox, oy, ux, uy, range, p, short_num, sum, block;
   std::vector<std::size_t> ends;
-  std::vector<std::uint8_t> fix;
+  std::vector<std::uint8_t> fix, on_pane;  // per first-round ray: mixture left to the scalar path; met a pane
   std::vector<std::int32_t> segment;
   std::vector<std::uint32_t> order;  // one beam's rays that met a pane, by pane
   Hits hits;
@@ -137,6 +137,7 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
     s.range.resize(nr);
     s.segment.resize(nr);
     s.p.resize(nr);
+    s.on_pane.resize(nr);
     s.ends.resize(nb);
     for (std::size_t j = 0; j < n; ++j) {
       const Pose2& T = poses[j0 + j];
@@ -170,8 +171,8 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
       s.order.clear();
       for (std::size_t k = i * n; k < (i + 1) * n; ++k) {
         const std::int32_t seg = s.segment[k];
-        if (seg >= 0 && segments[static_cast<std::size_t>(seg)].material == Material::Glass)
-          s.order.push_back(static_cast<std::uint32_t>(k));
+        s.on_pane[k] = seg >= 0 && segments[static_cast<std::size_t>(seg)].material == Material::Glass;
+        if (s.on_pane[k]) s.order.push_back(static_cast<std::uint32_t>(k));
       }
       const auto by_pane = [&](std::uint32_t a, std::uint32_t b) { return s.segment[a] < s.segment[b]; };
       if (!std::is_sorted(s.order.begin(), s.order.end(), by_pane))
@@ -306,9 +307,7 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
         for (std::size_t g = h.beam_start[i]; g < h.beam_start[i + 1]; ++g) h.fix[g] = 1;
       }
       for (std::size_t k = i * n; k < (i + 1) * n; ++k) {
-        const std::int32_t seg = s.segment[k];
-        if (!(seg >= 0 && segments[static_cast<std::size_t>(seg)].material == Material::Glass) && (!lanes || s.fix[k]))
-          s.p[k] = mix_.probability(z, s.range[k], max_range, short_num);
+        if (!s.on_pane[k] && (!lanes || s.fix[k])) s.p[k] = mix_.probability(z, s.range[k], max_range, short_num);
       }
       for (std::size_t g = h.beam_start[i]; g < h.beam_start[i + 1]; ++g) {
         if (!h.fix[g]) {
@@ -326,17 +325,22 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
         s.p[h.ray[g]] = fromModes(m, z, max_range, short_num);
       }
     }
-    for (std::size_t j = 0; j < n; ++j) {
-      double sum = 0.0, block = 1.0;
-      for (std::size_t i = 0; i < nb; ++i) {
-        block *= s.p[i * n + j];
-        if ((i & 7) == 7) {
-          sum += std::log(block);
-          block = 1.0;
+    // (beam by beam over the poses: the same products and sums per pose, on vector registers)
+    s.sum.assign(n, 0.0);
+    s.block.assign(n, 1.0);
+    double* sum = s.sum.data();
+    double* block = s.block.data();
+    for (std::size_t i = 0; i < nb; ++i) {
+      const double* p = &s.p[i * n];
+      for (std::size_t j = 0; j < n; ++j) block[j] *= p[j];
+      if ((i & 7) == 7) {
+        for (std::size_t j = 0; j < n; ++j) {
+          sum[j] += std::log(block[j]);
+          block[j] = 1.0;
         }
       }
-      out[j0 + j] = sum + std::log(block);
     }
+    for (std::size_t j = 0; j < n; ++j) out[j0 + j] = sum[j] + std::log(block[j]);
   }
 }
 
