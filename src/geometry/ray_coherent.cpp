@@ -51,10 +51,11 @@ struct Group {
 
 // Segment a + v d (id seg_id) against rays [0, n): the walk's hitParams, then the nearest hit, ties
 // to the lower segment id (the scalar fallback of the SIMD kernels' testSegmentLanes).
-void testSegmentScalar(double* __restrict best, std::int64_t* __restrict id, const double* __restrict ox,
-                       const double* __restrict oy, const double* __restrict ux, const double* __restrict uy,
-                       const std::int64_t* __restrict skip, std::size_t n, double ax, double ay, double dx, double dy,
-                       std::int64_t seg_id) {
+double testSegmentScalar(double* __restrict best, std::int64_t* __restrict id, const double* __restrict ox,
+                         const double* __restrict oy, const double* __restrict ux, const double* __restrict uy,
+                         const std::int64_t* __restrict skip, std::size_t n, double ax, double ay, double dx, double dy,
+                         std::int64_t seg_id) {
+  double low = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < n; ++k) {
     const double wx = ax - ox[k], wy = ay - oy[k];
     const double inv = 1.0 / (ux[k] * dy - uy[k] * dx);
@@ -64,8 +65,10 @@ void testSegmentScalar(double* __restrict best, std::int64_t* __restrict id, con
     const bool hit = (q >= -kSlack) & (t > 0.0) & (skip[k] != seg_id);
     const bool better = hit & ((t < best[k]) | ((t == best[k]) & (seg_id < id[k])));
     best[k] = better ? t : best[k];
+    low = better && t < low ? t : low;
     id[k] = better ? seg_id : id[k];
   }
+  return low;
 }
 
 // The scalar set-up of a group (ray_batch.hpp: GroupSetupFn, GroupConeFn; padded == n here).
@@ -85,6 +88,7 @@ void groupSetupScalar(const double* ox, const double* oy, const double* ux, cons
     st.su += u;
     st.sv += v;
     st.max_range = std::max(st.max_range, std::min(m, 1e300));
+    st.min_range = std::min(st.min_range, m);
     const double limit = std::min(m, std::numeric_limits<double>::max());
     best[k] = std::bit_cast<double>(std::bit_cast<std::uint64_t>(limit) + 1);  // acceptLimit for m > 0
   }
@@ -208,6 +212,9 @@ void RayCaster::castGroups(const RayBatch& rays, const std::size_t* group_end, s
     std::size_t live = n;
     g.pending.resize(n);
     for (std::size_t k = 0; k < n; ++k) g.pending[k] = static_cast<std::uint32_t>(k);
+    // The nearest point at which an undecided ray can be decided: min of best and max range over
+    // them (the tests report the hits they write), so the list is scanned only when some ray is.
+    double next = st.min_range;
     auto decide = [&](std::size_t k) {  // writes ray k's result; its slot then takes no more hits
       const std::size_t i = first + k;
       const bool hit = g.id[k] >= 0;
@@ -258,20 +265,23 @@ void RayCaster::castGroups(const RayBatch& rays, const std::size_t* group_end, s
               const double wa = radius + (xa + radius) * tan_a + kMargin, wb = radius + (xb + radius) * tan_a + kMargin;
               if ((la > wa && lb > wb) || (-la > wa && -lb > wb) || (xa < -radius - kMargin && xb < -radius - kMargin))
                 continue;
-              test(g.best.data(), g.id.data(), g.ox.data(), g.oy.data(), g.ux.data(), g.uy.data(), g.skip.data(),
-                   padded, s.ax, s.ay, s.dx, s.dy, flat_ids_[e]);
+              next = std::min(next, test(g.best.data(), g.id.data(), g.ox.data(), g.oy.data(), g.ux.data(), g.uy.data(),
+                                         g.skip.data(), padded, s.ax, s.ay, s.dx, s.dy, flat_ids_[e]));
             }
           }
         }
       }
       a0 = a1;
       const double reached = a1 - radius - kMargin;  // every ray is settled up to t = reached
-      for (std::size_t l = 0; l < live;) {           // the undecided rays, listed
+      if (!(next <= reached)) continue;
+      next = kInf;
+      for (std::size_t l = 0; l < live;) {  // the undecided rays, listed
         const std::uint32_t k = g.pending[l];
         if (g.best[k] <= reached || g.max_range[k] <= reached) {
           decide(k);  // drops it: the list's last entry takes its place
           g.pending[l] = g.pending[live];
         } else {
+          next = std::min(next, std::min(g.best[k], g.max_range[k]));
           ++l;
         }
       }
