@@ -113,7 +113,6 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
   thread_local std::vector<Transmitted> walks, going;  // aligned with s.through / s.next
   const std::size_t nb = beams.size();
   const double max_range = beams.max_range;
-  const auto& segments = caster_.map().segments;
   static const detail::MixtureLanesFn lanes_fn = detail::mixtureLanes();
   static const detail::GlassWeightsFn weights_fn = detail::glassWeightsLanes();
   static const detail::GlassModesFn modes_fn = detail::glassModesLanes();
@@ -171,7 +170,7 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
       s.order.clear();
       for (std::size_t k = i * n; k < (i + 1) * n; ++k) {
         const std::int32_t seg = s.segment[k];
-        s.on_pane[k] = seg >= 0 && segments[static_cast<std::size_t>(seg)].material == Material::Glass;
+        s.on_pane[k] = seg >= 0 && materials_[static_cast<std::size_t>(seg)] == Material::Glass;
         if (s.on_pane[k]) s.order.push_back(static_cast<std::uint32_t>(k));
       }
       const auto by_pane = [&](std::uint32_t a, std::uint32_t b) { return s.segment[a] < s.segment[b]; };
@@ -266,7 +265,7 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
         RayHit next;
         next.range = s.through.range[r];
         next.segment = s.through.segment[r];
-        if (next.segment >= 0) next.material = segments[static_cast<std::size_t>(next.segment)].material;
+        if (next.segment >= 0) next.material = materials_[static_cast<std::size_t>(next.segment)];
         Transmitted& t = walks[r];
         if (goesOn(t, next, dir, h.er[g])) {
           s.next.add(t.o, dir, max_range - t.travelled, t.skip, g, s.through.group[r]);

@@ -17,8 +17,10 @@ constexpr double kNegligible = 1e-4;
 GlassModel::GlassModel(const VectorMap& map, const SensorParams& params, Variant variant)
     : SensorModel(params), caster_(map), mix_(params), variant_(variant) {
   panes_.reserve(map.segments.size());
-  for (const MapSegment& s : map.segments)
+  for (const MapSegment& s : map.segments) {
     panes_.push_back({s.b - s.a, s.direction(), (s.b - s.a).norm(), s.thickness});
+    materials_.push_back(s.material);
+  }
 }
 
 void GlassModel::setParams(const SensorParams& params) {

@@ -76,6 +76,7 @@ class GlassModel final : public SensorModel {
     double len, thickness;
   };
   std::vector<Pane> panes_;
+  std::vector<Material> materials_;  ///< per segment, compact (the batch path's lookups)
   Mixture mix_;
   Variant variant_;
 };
