@@ -81,10 +81,20 @@ void castPacketsAvx512(const PacketGrid& grid, const PacketRays& rays, double* o
     castPackets<false>(grid, rays, out_t, out_id);
 }
 
-void testSegmentAvx512(double* best, std::int64_t* id, const double* ox, const double* oy, const double* ux,
-                       const double* uy, const std::int64_t* skip, std::size_t n, double ax, double ay, double dx,
-                       double dy, std::int64_t seg_id) {
-  testSegmentLanes(best, id, ox, oy, ux, uy, skip, n, ax, ay, dx, dy, seg_id);
+double testSegmentAvx512(double* best, std::int64_t* id, const double* ox, const double* oy, const double* ux,
+                         const double* uy, const std::int64_t* skip, std::size_t n, double ax, double ay, double dx,
+                         double dy, std::int64_t seg_id) {
+  return testSegmentLanes(best, id, ox, oy, ux, uy, skip, n, ax, ay, dx, dy, seg_id);
+}
+
+void groupSetupAvx512(const double* ox, const double* oy, const double* ux, const double* uy, const double* max_range,
+                      double* best, std::size_t n, std::size_t padded, GroupStats& stats) {
+  groupSetupLanes(ox, oy, ux, uy, max_range, best, n, padded, stats);
+}
+
+void groupConeAvx512(const double* ox, const double* oy, const double* ux, const double* uy, std::size_t n,
+                     std::size_t padded, double cx, double cy, double ax, double ay, double& cos_a, double& radius2) {
+  groupConeLanes(ox, oy, ux, uy, n, padded, cx, cy, ax, ay, cos_a, radius2);
 }
 
 }  // namespace glassmap::detail

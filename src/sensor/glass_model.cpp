@@ -15,7 +15,13 @@ constexpr double kNegligible = 1e-4;
 }  // namespace
 
 GlassModel::GlassModel(const VectorMap& map, const SensorParams& params, Variant variant)
-    : SensorModel(params), caster_(map), mix_(params), variant_(variant) {}
+    : SensorModel(params), caster_(map), mix_(params), variant_(variant) {
+  panes_.reserve(map.segments.size());
+  for (const MapSegment& s : map.segments) {
+    panes_.push_back({s.b - s.a, s.direction(), (s.b - s.a).norm(), s.thickness});
+    materials_.push_back(s.material);
+  }
+}
 
 void GlassModel::setParams(const SensorParams& params) {
   mix_ = Mixture(params);  // validates before anything changes
@@ -41,7 +47,7 @@ GlassModes GlassModel::weights(const RayHit& hit) const {
 }
 
 Vec2 GlassModel::mirrored(std::int32_t pane, const Vec2& dir) const {
-  const Vec2 t = caster_.map().segments[static_cast<std::size_t>(pane)].direction();
+  const Vec2& t = panes_[static_cast<std::size_t>(pane)].t;
   return 2.0 * dir.dot(t) * t - dir;
 }
 
@@ -50,10 +56,10 @@ double GlassModel::elongation(std::int32_t pane, const Vec2& dir) const {
   // cosines themselves: cos theta_i = |dir x d| / |d|, sin theta_i = |dir . d| / |d| for the
   // pane's vector d, and Snell's sin theta_t = sin theta_i / n; no sin, asin or cos.
   if (params_.offset >= 0) return params_.offset;
-  const MapSegment& s = caster_.map().segments[static_cast<std::size_t>(pane)];
+  const Pane& s = panes_[static_cast<std::size_t>(pane)];
   if (s.thickness == 0.0) return 0.0;
-  const Vec2 d = s.b - s.a;
-  const double len = d.norm();
+  const Vec2& d = s.d;
+  const double len = s.len;
   const double cos_i = std::min(1.0, std::abs(dir.x() * d.y() - dir.y() * d.x()) / len);
   const double sin_t = std::min(1.0, std::abs(dir.dot(d)) / len) * (kAirIndex / params_.glass_index);
   const double cos_t = std::sqrt(std::max(0.0, 1.0 - sin_t * sin_t));

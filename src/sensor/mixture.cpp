@@ -30,8 +30,8 @@ double Mixture::gauss(double z, double e) const {
 double Mixture::hitDensity(double z, double e, double z_max) const {
   if (!(e < z_max)) return 0.0;
   const double u = (z - e) / sigma;
-  if (u * u > 80.0) return 0.0;  // below 1e-17 of the peak
-  double eta = 1.0;              // truncation to [0, z_max): only near either end it matters
+  if (u * u > kHitCutoff2) return 0.0;  // below 1e-17 of the peak
+  double eta = 1.0;                     // truncation to [0, z_max): only near either end it matters
   if (e < 6.0 * sigma || e > z_max - 6.0 * sigma) eta = 1.0 / (phi((z_max - e) / sigma) - phi(-e / sigma));
   return eta * gauss(z, e);
 }

@@ -6,6 +6,7 @@
 
 extern "C" __m256d _ZGVdN4v_exp(__m256d);
 extern "C" __m256d _ZGVdN4v_expm1(__m256d);
+extern "C" __m256d _ZGVdN4v_atan(__m256d);
 
 namespace glassmap::sensor::detail {
 namespace {
@@ -15,6 +16,7 @@ typedef double vd __attribute__((vector_size(32)));
 typedef long vi __attribute__((vector_size(32)));
 inline vd vexp(vd x) { return (vd)_ZGVdN4v_exp((__m256d)x); }
 inline vd vexpm1(vd x) { return (vd)_ZGVdN4v_expm1((__m256d)x); }
+inline vd vatan(vd x) { return (vd)_ZGVdN4v_atan((__m256d)x); }
 
 #include "mixture_lanes.inc"
 
@@ -23,6 +25,8 @@ inline vd vexpm1(vd x) { return (vd)_ZGVdN4v_expm1((__m256d)x); }
 void mixtureLanesAvx2(const MixtureLanes& m, const double* e, double* p, std::uint8_t* fix, std::size_t n) {
   mixtureLanesBody(m, e, p, fix, n);
 }
+void glassWeightsAvx2(const GlassWeightLanes& m, const GlassWeightRays& r, std::size_t n) { glassWeightsBody(m, r, n); }
+void glassModesAvx2(const MixtureLanes& m, const GlassModeRays& r, std::size_t n) { glassModesBody(m, r, n); }
 
 }  // namespace glassmap::sensor::detail
 #endif

@@ -18,6 +18,22 @@ inline MixtureLanesFn mixtureLanes() {
   return nullptr;
 }
 
+/// The glass model's kernels this CPU runs (null: none; GlassModel's scalar pieces then).
+inline GlassWeightsFn glassWeightsLanes() {
+#if defined(GLASSMAP_MIXTURE_LANES)
+  if (RayCaster::bestIsa() == RayIsa::Avx512) return glassWeightsAvx512;
+  if (RayCaster::bestIsa() == RayIsa::Avx2) return glassWeightsAvx2;
+#endif
+  return nullptr;
+}
+inline GlassModesFn glassModesLanes() {
+#if defined(GLASSMAP_MIXTURE_LANES)
+  if (RayCaster::bestIsa() == RayIsa::Avx512) return glassModesAvx512;
+  if (RayCaster::bestIsa() == RayIsa::Avx2) return glassModesAvx2;
+#endif
+  return nullptr;
+}
+
 /// The lanes' numbers for reading z < z_max of one beam.
 inline MixtureLanes lanesFor(const Mixture& mix, double z, double z_max, double short_numerator) {
   MixtureLanes m;
@@ -30,6 +46,7 @@ inline MixtureLanes lanesFor(const Mixture& mix, double z, double z_max, double 
   m.norm = 1.0 / (std::sqrt(2.0 * kPi) * mix.sigma);
   m.lambda = mix.lambda_short;
   m.short_numerator = short_numerator;
+  m.cutoff2 = Mixture::kHitCutoff2;
   return m;
 }
 

@@ -142,6 +142,9 @@ def main():
                     continue
                 ms = 1e3 * e["s/update"]
                 add("localize", f"MCL update {size.replace('/', ' x ')}, {model} model, one core", ms, "ms", cmd, load)
+                if e.get("updates/iteration") and e.get("time_unit") == "ms":  # one thread: all on the main one
+                    add("localize", f"MCL update {size.replace('/', ' x ')}, {model} model, one core, CPU",
+                        e["cpu_time"] / e["updates/iteration"], "ms CPU", cmd, load)
                 if e.get("max_error_m", 0.0) > 0.05:
                     print(f"  warning: {model} {size} strays {e['max_error_m']:.2f} m from the truth", file=sys.stderr)
             e1, e2 = b.get(f"BM_Update_{model}/2500/61/1/real_time"), b.get(f"BM_Update_{model}/2500/61/2/real_time")

@@ -70,6 +70,13 @@ class GlassModel final : public SensorModel {
   double fromModes(const GlassModes& m, double z, double max_range, double short_numerator) const;
 
   RayCaster caster_;
+  /// Per segment, what does not depend on the ray: b - a, its unit direction and length, thickness.
+  struct Pane {
+    Vec2 d, t;
+    double len, thickness;
+  };
+  std::vector<Pane> panes_;
+  std::vector<Material> materials_;  ///< per segment, compact (the batch path's lookups)
   Mixture mix_;
   Variant variant_;
 };

@@ -18,6 +18,12 @@ struct Mixture {
 
   explicit Mixture(const SensorParams& p);
 
+  /// hitDensity is exactly 0 where ((z - e) / sigma)^2 exceeds this (below 1e-17 of the peak).
+  static constexpr double kHitCutoff2 = 80.0;
+  /// A distance in sigmas beyond that cutoff (sqrt 80 = 8.94) that rounding cannot cross: a mode
+  /// expected more than kHitReach sigma beyond the reading adds exactly 0 to p(z < z_max).
+  static constexpr double kHitReach = 10.0;
+
   /// Hit density at z [1/m] of a reading around expected range e, a Gaussian truncated and
   /// renormalised to [0, z_max); 0 when e >= z_max (then hitMass() is the point mass at z_max).
   double hitDensity(double z, double e, double z_max) const;
