@@ -133,9 +133,10 @@ double log10FalseAlarms(const Piece& p, const CellCloud& cloud, double band, dou
 // that is not aligned with the 1-degree vote lines, or whose normals a wide lobe biases, fall to
 // several lines, and a short tail of it is then tested alone against every line the grid could
 // hold. Where it lies on an accepted piece's line (every cell in the piece's band, normals
-// compatible) and continues it (across at most merge_gap, or max_bridge not seen free), it is tested again as what it is, one of the few
-// continuations of the accepted pieces: the same tail probability, counted over (rejected runs x
-// accepted pieces) tests instead of the whole grid's lines; a run that passes joins the piece.
+// compatible) and continues it (across at most merge_gap, or up to max_bridge not seen free), it
+// is tested again as what it is, one of the few continuations of the accepted pieces: the same
+// tail probability, counted over (rejected runs x accepted pieces) tests instead of the whole
+// grid's lines; a run that passes joins the piece.
 void acceptContinuations(std::vector<Piece>& rejected, std::size_t first, const CellCloud& cloud,
                          const MaterialOptions& mo, const Context& ctx, std::vector<Piece>& out) {
   const double band = 2.0 * mo.max_distance;  // the band a piece claims, its shadow included
