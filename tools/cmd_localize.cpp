@@ -61,7 +61,8 @@ void run(const LocalizeArgs& a) {
   options.sensor.glass_as = sensor::parseGlassAs(a.glass_as);
   options.sensor.sigma_hit = a.sigma_hit;
   if (!a.sensor.empty()) {
-    options.sensor = sensor::paramsFromProfile(readSensorProfile(a.sensor), options.sensor);
+    options.sensor = sensor::paramsFromProfile(readSensorProfile(a.sensor), options.sensor, sensor::kMinProfileSigmaHit,
+                                               sensor::typicalRange(log));
     if (a.sigma_hit_given) options.sensor.sigma_hit = a.sigma_hit;  // an explicit option wins
   }
   localize::LocalizeOptions& opt = options.filter;

@@ -150,8 +150,8 @@ void bindLocalize(py::module_& m) {
         options.sensor.glass_as = sensor::parseGlassAs(glass_as);
         options.sensor.sigma_hit = sigma_hit;
         if (sensor) {
-          options.sensor =
-              sensor::paramsFromProfile(profileFrom(sensor, "localize(): option 'sensor'"), options.sensor);
+          options.sensor = sensor::paramsFromProfile(profileFrom(sensor, "localize(): option 'sensor'"), options.sensor,
+                                                     sensor::kMinProfileSigmaHit, sensor::typicalRange(log->log));
           if (sigma_hit_given) options.sensor.sigma_hit = sigma_hit;  // an explicit option wins
         }
         opt.self_calibration.enabled = !sensor && !no_self_calibrate;  // as the command line

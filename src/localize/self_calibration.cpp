@@ -97,7 +97,7 @@ SelfCalibrationFit SelfCalibrator::fit(const LaserLog& log, const sensor::Sensor
   fit.time = log.scans[scans_.back()].timestamp - log.scans.front().timestamp;
   fit.scans = want;
   fit.trusted_m = trusted_m_;
-  fit.params = sensor::paramsFromProfile(r.profile, current, opt_.min_sigma_hit);
+  fit.params = sensor::paramsFromProfile(r.profile, current, opt_.min_sigma_hit, sensor::typicalRange(sub));
   fit.params.sigma_hit = std::min(fit.params.sigma_hit, opt_.max_sigma_hit);
   const double sum = fit.params.z_hit + fit.params.z_short + fit.params.z_max + fit.params.z_rand;
   fit.applied = sum > 0 && fit.params.z_hit / sum >= opt_.min_hit_weight;

@@ -159,6 +159,26 @@ TEST(Calibrate, ProfileCurvesFollowTheirParameters) {
 namespace glassmap {
 namespace {
 
+// A laser whose noise grows with range is taken at the ranges its log reads: one sigma for every
+// beam, hypot(sigma_0, rel r) at the median return, not sigma_0 (which is what it reads at 0 m).
+TEST(ProfileParams, RangeNoiseIsTakenAtTheLogsTypicalRange) {
+  LaserLog log;
+  for (int k = 0; k < 10; ++k) {
+    LaserScan s;
+    s.max_range = 8.0;
+    s.ranges = {1.0f, 2.0f, 5.0f, 6.0f, 7.0f, 8.0f, kNoReturn, 20.0f};  // returns 1, 2, 5, 6, 7
+    log.scans.push_back(s);
+  }
+  EXPECT_DOUBLE_EQ(sensor::typicalRange(log), 5.0);
+  EXPECT_DOUBLE_EQ(sensor::typicalRange(LaserLog{}), 0.0);
+  SensorProfile p;
+  p.range_sigma_m.value = 0.005;
+  p.range_sigma_rel.value = 0.01;
+  EXPECT_DOUBLE_EQ(sensor::paramsFromProfile(p, {}, 0.001).sigma_hit, 0.005);
+  EXPECT_NEAR(sensor::paramsFromProfile(p, {}, 0.001, sensor::typicalRange(log)).sigma_hit, std::hypot(0.005, 0.05),
+              1e-12);
+}
+
 TEST(ProfileParams, TheGlassModelTakesTheProfilesLobeAndFloors) {
   VectorMap map;
   map.add({2, -5}, {2, 5}, Material::Glass);

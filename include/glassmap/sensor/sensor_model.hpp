@@ -61,9 +61,18 @@ struct BeamSet {
 
 /// The models' parameters from a sensor profile (sensor/calibrate.hpp): the glass lobe (peak,
 /// sigma, floor), the reflection rate and floor, the mixture weights and lambda_short, and
-/// sigma_hit = max(profile's range sigma, min_sigma_hit): a floorplan is never drawn to the
-/// millimetre, and a likelihood sharper than the map is true to starves the particle filter.
-SensorParams paramsFromProfile(const SensorProfile& profile, SensorParams base = {}, double min_sigma_hit = 0.02);
+/// sigma_hit = max(the profile's range sigma at `typical_range_m`, min_sigma_hit): the models
+/// take one sigma for every beam, so a laser whose noise grows with range (hypot(sigma_0,
+/// rel r)) is taken at the ranges it reads (typicalRange of the log), not at 0 m; and a floorplan
+/// is never drawn to the millimetre, a likelihood sharper than the map is true to starves the
+/// particle filter.
+inline constexpr double kMinProfileSigmaHit = 0.02;  ///< paramsFromProfile's default floor [m]
+SensorParams paramsFromProfile(const SensorProfile& profile, SensorParams base = {},
+                               double min_sigma_hit = kMinProfileSigmaHit, double typical_range_m = 0.0);
+
+/// The median range of the returns (finite, below max range) of up to `max_scans` scans spread
+/// evenly over the log's scans in memory [m]; 0 when there is none.
+double typicalRange(const LaserLog& log, std::size_t max_scans = 200);
 
 /// Picks `count` beams spread evenly over the scan (all when count <= 0 or >= the scan's size).
 /// A no-return reading (kNoReturn) becomes a max reading.
