@@ -39,7 +39,7 @@ class GlassTiles {
   }
 
  private:
-  static constexpr int kTile = 16;
+  static constexpr int kTile = 4;
   grid::GridGeometry coarse_;
   std::vector<std::uint8_t> glass_;
 };

@@ -22,9 +22,8 @@ GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOp
   tbb::enumerable_thread_specific<Eigen::AlignedBox2d> boxes;
   forScansInParallel(log, {}, boxes, [&](const LaserScan& scan, std::size_t, Eigen::AlignedBox2d& b) {
     b.extend(scan.laser_pose.t);
-    forEachBeam(scan, options, [&](const Beam& beam) {
-      if (!(beam.no_return && options.deferNoReturns())) b.extend(beam.to);
-    });
+    forEachBeam(
+        scan, options, [&](const Beam& beam) { b.extend(beam.to); }, passBeams(options));
   });
   Eigen::AlignedBox2d box;
   for (const Eigen::AlignedBox2d& b : boxes) box.extend(b);
@@ -50,20 +49,25 @@ IntegrationStats integratePass(const LaserLog& log, const BeamOptions& options, 
   tbb::enumerable_thread_specific<Part<Counts>> parts([&] { return Part<Counts>{make(), {}}; });
   forScansInParallel(log, progress, parts, [&](const LaserScan& scan, std::size_t, Part<Counts>& part) {
     IntegrationStats& stats = part.stats;
-    forEachBeam(scan, options, [&](const Beam& beam) {
-      if (beam.no_return && options.deferNoReturns()) return;
-      const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
-      const auto per_beam = prepare(beam);
-      stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
-        if (end_inside && last) {
-          visit(part.counts, per_beam, x, y, true);
-        } else if (countsMiss(beam, t * beam.range, options.miss_margin)) {
-          visit(part.counts, per_beam, x, y, false);
-        }
-      });
-      ++stats.beams;
-      stats.hit_beams += beam.hit ? 1 : 0;
-    });
+    forEachBeam(
+        scan, options,
+        [&](const Beam& beam) {
+          const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
+          const auto per_beam = prepare(beam);
+          // countsMiss with its per-beam terms hoisted (the same comparison).
+          const bool all_miss = !beam.hit;
+          const double range = beam.range, miss_before = beam.range - options.miss_margin;
+          stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
+            if (end_inside && last) {
+              visit(part.counts, per_beam, x, y, true);
+            } else if (all_miss || t * range < miss_before) {
+              visit(part.counts, per_beam, x, y, false);
+            }
+          });
+          ++stats.beams;
+          stats.hit_beams += beam.hit ? 1 : 0;
+        },
+        passBeams(options));
     ++stats.scans;
   });
   IntegrationStats total;
