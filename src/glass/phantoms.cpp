@@ -87,6 +87,7 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
   const grid::GridGeometry& g = e.geometry;
 
   const detail::GlassTiles tiles(e);
+  const detail::CandidateIndex candidates(e);
 
   // Per thread: returns and folded returns per candidate cell, beam counts. Integer sums, so the
   // result does not depend on how the scans were shared out.
@@ -106,7 +107,7 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
         [&](const grid::Beam& beam) {
           const grid::CellIndex end = g.cellAt(beam.to);
           if (!g.contains(end)) return;
-          const std::int64_t c = e.candidate(static_cast<std::uint32_t>(g.index(end)));
+          const std::int64_t c = candidates.find(end.x, end.y);
           if (c < 0) return;
           ++tally.returns[static_cast<std::size_t>(c)];
           if (!tiles.near(beam.from, beam.to)) return;

@@ -40,12 +40,13 @@ struct Part {
   IntegrationStats stats;
 };
 
-// One pass over every beam of the log, scans in parallel: visit(counts, beam_key, x, y, is_hit)
-// for the end cell of a hit inside the grid (is_hit) and for each traversed cell that counts as a
-// miss, into the thread's own counts; the parts are then handed to merge(counts) one by one.
-template <typename Counts, typename Make, typename Prepare, typename Visit, typename Merge>
+// One pass over every beam of the log, scans in parallel: prepare(counts, beam) makes the beam's
+// visitor into the thread's own counts, called visit(x, y, is_hit) for the end cell of a hit inside
+// the grid (is_hit) and for each traversed cell that counts as a miss; the parts are then handed
+// to merge(counts) one by one.
+template <typename Counts, typename Make, typename Prepare, typename Merge>
 IntegrationStats integratePass(const LaserLog& log, const BeamOptions& options, const GridGeometry& g,
-                               const Progress& progress, Make make, Prepare prepare, Visit visit, Merge merge) {
+                               const Progress& progress, Make make, Prepare prepare, Merge merge) {
   tbb::enumerable_thread_specific<Part<Counts>> parts([&] { return Part<Counts>{make(), {}}; });
   forScansInParallel(log, progress, parts, [&](const LaserScan& scan, std::size_t, Part<Counts>& part) {
     IntegrationStats& stats = part.stats;
@@ -53,15 +54,15 @@ IntegrationStats integratePass(const LaserLog& log, const BeamOptions& options, 
         scan, options,
         [&](const Beam& beam) {
           const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
-          const auto per_beam = prepare(beam);
+          auto visit = prepare(part.counts, beam);
           // countsMiss with its per-beam terms hoisted (the same comparison).
           const bool all_miss = !beam.hit;
           const double range = beam.range, miss_before = beam.range - options.miss_margin;
           stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
             if (end_inside && last) {
-              visit(part.counts, per_beam, x, y, true);
+              visit(x, y, true);
             } else if (all_miss || t * range < miss_before) {
-              visit(part.counts, per_beam, x, y, false);
+              visit(x, y, false);
             }
           });
           ++stats.beams;
@@ -84,13 +85,14 @@ IntegrationStats integrateCounts(const LaserLog& log, const BeamOptions& options
                                  const Progress& progress) {
   return integratePass<HitMissGrid>(
       log, options, grid.geometry(), progress, [&] { return HitMissGrid(grid.geometry()); },
-      [](const Beam&) { return 0; },
-      [](HitMissGrid& counts, int, int x, int y, bool hit) {
-        if (hit) {
-          counts.addHit(x, y);
-        } else {
-          counts.addMiss(x, y);
-        }
+      [](HitMissGrid& counts, const Beam&) {
+        return [cursor = HitMissGrid::Cursor(counts)](int x, int y, bool hit) mutable {
+          if (hit) {
+            cursor.addHit(x, y);
+          } else {
+            cursor.addMiss(x, y);
+          }
+        };
       },
       [&](HitMissGrid&& part) { grid.merge(std::move(part)); });
 }
@@ -100,15 +102,17 @@ IntegrationStats integrateAngles(const LaserLog& log, const BeamOptions& options
   const int bins = histograms.bins();
   return integratePass<std::vector<std::uint16_t>>(
       log, options, histograms.geometry(), progress, [&] { return histograms.emptyCounts(); },
-      [bins](const Beam& beam) { return angleBin(beam.angle, bins); },
-      [&](std::vector<std::uint16_t>& counts, int bin, int x, int y, bool hit) {
-        const std::int32_t id = histograms.find(x, y);
-        if (id == AngleHistograms::kNone) return;
-        if (hit) {
-          histograms.addHit(counts, id, bin);
-        } else {
-          histograms.addMiss(counts, id, bin);
-        }
+      [&](std::vector<std::uint16_t>& counts, const Beam& beam) {
+        return [&counts, &histograms, bin = angleBin(beam.angle, bins), cursor = AngleHistograms::Cursor(histograms)](
+                   int x, int y, bool hit) mutable {
+          const std::int32_t id = cursor.find(x, y);
+          if (id == AngleHistograms::kNone) return;
+          if (hit) {
+            histograms.addHit(counts, id, bin);
+          } else {
+            histograms.addMiss(counts, id, bin);
+          }
+        };
       },
       [&](std::vector<std::uint16_t>&& part) { histograms.merge(part); });
 }
