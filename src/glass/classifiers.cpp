@@ -250,9 +250,16 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
   const double lp_emp = std::log(1.0 - o.prior_glass - o.prior_occupied);
   const double lh_emp = std::log(o.p_hit_emp), lm_emp = std::log1p(-o.p_hit_emp);
   const double lm_occ = std::log1p(-o.p_hit_occ);
-  std::vector<double> ll(static_cast<std::size_t>(e.num_labels));
-  std::vector<int> active;
-  for (std::size_t i = 0; i < e.cells.size(); ++i) {
+  // Candidates in parallel, each with its thread's scratch.
+  struct Scratch {
+    std::vector<double> ll;
+    std::vector<int> active;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch([&] {
+    return Scratch{std::vector<double>(static_cast<std::size_t>(e.num_labels)), {}};
+  });
+  // One candidate's row of costs (from its own histogram only).
+  auto row = [&](std::size_t i, std::vector<double>& ll, std::vector<int>& active) {
     const std::int32_t id = ids[i];
     const std::uint16_t* h = hist.hits(id);
     const std::uint16_t* m = hist.misses(id);
@@ -278,7 +285,12 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
       for (int k = 0; k < bins; ++k) ll[glassLabel(k)] = -std::numeric_limits<double>::infinity();
     }
     normalise(ll, &e.cost[i * static_cast<std::size_t>(e.num_labels)]);
-  }
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, e.cells.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      Scratch& sc = scratch.local();
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) row(i, sc.ll, sc.active);
+                    });
   labelByMinimumCost(e);
   return e;
 }
