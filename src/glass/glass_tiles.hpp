@@ -48,11 +48,14 @@ class GlassTiles {
 /// allocated only where candidates lie (a pass that looks up the end cell of every beam).
 class CandidateIndex {
  public:
-  explicit CandidateIndex(const CellEvidence& e) : g_(e.geometry) {
+  explicit CandidateIndex(const CellEvidence& e) : CandidateIndex(e.geometry, e.cells) {}
+  /// The index of any ascending list of linear cell indices: cell cells[i] finds i.
+  template <class Index>
+  CandidateIndex(const grid::GridGeometry& g, const std::vector<Index>& cells) : g_(g) {
     tiles_x_ = (static_cast<std::size_t>(g_.width) + kSize - 1) / kSize;
     tiles_.resize(tiles_x_ * ((static_cast<std::size_t>(g_.height) + kSize - 1) / kSize));
-    for (std::size_t i = 0; i < e.cells.size(); ++i) {
-      const grid::CellIndex c = g_.cellOf(e.cells[i]);
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const grid::CellIndex c = g_.cellOf(cells[i]);
       auto& tile = tiles_[tileIndex(c.x, c.y)];
       if (tile.empty()) tile.assign(kSize * kSize, -1);
       tile[offset(c.x, c.y)] = static_cast<std::int32_t>(i);
