@@ -39,7 +39,7 @@ class GlassTiles {
   }
 
  private:
-  static constexpr int kTile = 4;
+  static constexpr int kTile = 2;
   grid::GridGeometry coarse_;
   std::vector<std::uint8_t> glass_;
 };
