@@ -120,47 +120,53 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
   });
   grid::forScansInParallel(log, progress, parts, [&](const LaserScan& scan, std::size_t, Part& part) {
     grid::IntegrationStats& st = part.stats;
-    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (beam.no_return && beams.deferNoReturns()) return;  // grid::integrateNoReturns walks them
-      ++st.beams;
-      const int bin = grid::angleBin(beam.angle, bins);
-      const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
-      // One walk: per-angle hits/misses of candidates and d_real, the distance to the first
-      // occupied cell of the standard map along the beam (where glass is mostly invisible).
-      double d_real = std::numeric_limits<double>::infinity();
-      std::int32_t end_id = AngleHistograms::kNone;
-      st.cells_traversed += grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
-        const std::int32_t id = hist.find(x, y);
-        if (id == AngleHistograms::kNone) return;
-        if (end_inside && last) {
-          hist.addHit(part.counts, id, bin);
-          end_id = id;
-        } else if (grid::countsMiss(beam, t * beam.range, beams.miss_margin)) {
-          hist.addMiss(part.counts, id, bin);
-        }
-        if (occupied[static_cast<std::size_t>(id)] && !std::isfinite(d_real)) d_real = t * beam.range;
-      });
-      if (end_id == AngleHistograms::kNone) return;
-      ++st.hit_beams;
-      if (!std::isfinite(d_real)) {  // continue the beam past its reading
-        const Vec2 far = beam.to + (search / beam.range) * (beam.to - beam.from);
-        st.cells_traversed += grid::traverse(g, beam.to, far, [&](int x, int y, double t, bool) {
-          if (t == 0.0) return true;  // the reading's own cell, checked above
-          const std::int32_t id = hist.find(x, y);
-          if (id == AngleHistograms::kNone || !occupied[static_cast<std::size_t>(id)]) return true;
-          d_real = beam.range + t * search;
-          return false;
-        });
-        if (!std::isfinite(d_real)) d_real = beam.range + search;
-      }
-      // Paper 2.5.4: P_occ^t = 1 / (1 + exp(d_real - d_range - delta)), distances in cells.
-      const double x = (d_real - beam.range) / res - o.sigmoid_margin;
-      const double log_p_occ = -softplus(x);      // log P_occ^t
-      const double log_1m_p_occ = -softplus(-x);  // log (1 - P_occ^t)
-      const auto k = static_cast<std::size_t>(end_id);
-      part.log_occ[k] += std::llround(kFixed * std::log(o.p_hit_occ * std::exp(log_p_occ) + o.occ_hit_floor));
-      part.log_glass[k] += std::llround(kFixed * log_1m_p_occ);
-    });
+    // No-return beams: grid::integrateNoReturns walks them (with beams.deferNoReturns()).
+    grid::forEachBeam(
+        scan, beams,
+        [&](const grid::Beam& beam) {
+          ++st.beams;
+          const int bin = grid::angleBin(beam.angle, bins);
+          const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
+          // One walk: per-angle hits/misses of candidates and d_real, the distance to the first
+          // occupied cell of the standard map along the beam (where glass is mostly invisible).
+          double d_real = std::numeric_limits<double>::infinity();
+          std::int32_t end_id = AngleHistograms::kNone;
+          // grid::countsMiss with its per-beam terms hoisted (the same comparison).
+          const bool all_miss = !beam.hit;
+          const double range = beam.range, miss_before = beam.range - beams.miss_margin;
+          st.cells_traversed += grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
+            const std::int32_t id = hist.find(x, y);
+            if (id == AngleHistograms::kNone) return;
+            if (end_inside && last) {
+              hist.addHit(part.counts, id, bin);
+              end_id = id;
+            } else if (all_miss || t * range < miss_before) {
+              hist.addMiss(part.counts, id, bin);
+            }
+            if (occupied[static_cast<std::size_t>(id)] && !std::isfinite(d_real)) d_real = t * beam.range;
+          });
+          if (end_id == AngleHistograms::kNone) return;
+          ++st.hit_beams;
+          if (!std::isfinite(d_real)) {  // continue the beam past its reading
+            const Vec2 far = beam.to + (search / beam.range) * (beam.to - beam.from);
+            st.cells_traversed += grid::traverse(g, beam.to, far, [&](int x, int y, double t, bool) {
+              if (t == 0.0) return true;  // the reading's own cell, checked above
+              const std::int32_t id = hist.find(x, y);
+              if (id == AngleHistograms::kNone || !occupied[static_cast<std::size_t>(id)]) return true;
+              d_real = beam.range + t * search;
+              return false;
+            });
+            if (!std::isfinite(d_real)) d_real = beam.range + search;
+          }
+          // Paper 2.5.4: P_occ^t = 1 / (1 + exp(d_real - d_range - delta)), distances in cells.
+          const double x = (d_real - beam.range) / res - o.sigmoid_margin;
+          const double log_p_occ = -softplus(x);      // log P_occ^t
+          const double log_1m_p_occ = -softplus(-x);  // log (1 - P_occ^t)
+          const auto k = static_cast<std::size_t>(end_id);
+          part.log_occ[k] += std::llround(kFixed * std::log(o.p_hit_occ * std::exp(log_p_occ) + o.occ_hit_floor));
+          part.log_glass[k] += std::llround(kFixed * log_1m_p_occ);
+        },
+        grid::passBeams(beams));
     ++st.scans;
   });
   std::vector<std::int64_t> log_occ(hist.size(), 0), log_glass(hist.size(), 0);
@@ -244,9 +250,16 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
   const double lp_emp = std::log(1.0 - o.prior_glass - o.prior_occupied);
   const double lh_emp = std::log(o.p_hit_emp), lm_emp = std::log1p(-o.p_hit_emp);
   const double lm_occ = std::log1p(-o.p_hit_occ);
-  std::vector<double> ll(static_cast<std::size_t>(e.num_labels));
-  std::vector<int> active;
-  for (std::size_t i = 0; i < e.cells.size(); ++i) {
+  // Candidates in parallel, each with its thread's scratch.
+  struct Scratch {
+    std::vector<double> ll;
+    std::vector<int> active;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch([&] {
+    return Scratch{std::vector<double>(static_cast<std::size_t>(e.num_labels)), {}};
+  });
+  // One candidate's row of costs (from its own histogram only).
+  auto row = [&](std::size_t i, std::vector<double>& ll, std::vector<int>& active) {
     const std::int32_t id = ids[i];
     const std::uint16_t* h = hist.hits(id);
     const std::uint16_t* m = hist.misses(id);
@@ -272,7 +285,12 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
       for (int k = 0; k < bins; ++k) ll[glassLabel(k)] = -std::numeric_limits<double>::infinity();
     }
     normalise(ll, &e.cost[i * static_cast<std::size_t>(e.num_labels)]);
-  }
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, e.cells.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      Scratch& sc = scratch.local();
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) row(i, sc.ll, sc.active);
+                    });
   labelByMinimumCost(e);
   return e;
 }

@@ -39,9 +39,45 @@ class GlassTiles {
   }
 
  private:
-  static constexpr int kTile = 16;
+  static constexpr int kTile = 2;
   grid::GridGeometry coarse_;
   std::vector<std::uint8_t> glass_;
+};
+
+/// CellEvidence::candidate without its binary search: candidate numbers in tiles of 32 x 32 cells,
+/// allocated only where candidates lie (a pass that looks up the end cell of every beam).
+class CandidateIndex {
+ public:
+  explicit CandidateIndex(const CellEvidence& e) : CandidateIndex(e.geometry, e.cells) {}
+  /// The index of any ascending list of linear cell indices: cell cells[i] finds i.
+  template <class Index>
+  CandidateIndex(const grid::GridGeometry& g, const std::vector<Index>& cells) : g_(g) {
+    tiles_x_ = (static_cast<std::size_t>(g_.width) + kSize - 1) / kSize;
+    tiles_.resize(tiles_x_ * ((static_cast<std::size_t>(g_.height) + kSize - 1) / kSize));
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const grid::CellIndex c = g_.cellOf(cells[i]);
+      auto& tile = tiles_[tileIndex(c.x, c.y)];
+      if (tile.empty()) tile.assign(kSize * kSize, -1);
+      tile[offset(c.x, c.y)] = static_cast<std::int32_t>(i);
+    }
+  }
+  /// Candidate number of cell (x, y) inside the grid, or -1 (as CellEvidence::candidate).
+  std::int64_t find(int x, int y) const {
+    const auto& tile = tiles_[tileIndex(x, y)];
+    return tile.empty() ? -1 : tile[offset(x, y)];
+  }
+
+ private:
+  static constexpr int kBits = 5, kSize = 1 << kBits;
+  std::size_t tileIndex(int x, int y) const {
+    return static_cast<std::size_t>(y >> kBits) * tiles_x_ + static_cast<std::size_t>(x >> kBits);
+  }
+  static std::size_t offset(int x, int y) {
+    return static_cast<std::size_t>(((y & (kSize - 1)) << kBits) | (x & (kSize - 1)));
+  }
+  grid::GridGeometry g_;
+  std::size_t tiles_x_ = 0;
+  std::vector<std::vector<std::int32_t>> tiles_;  // candidate numbers below 2^31 (cells of one grid)
 };
 
 }  // namespace glassmap::glass::detail

@@ -43,28 +43,32 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
                  std::vector<std::uint32_t>(cells.size(), 0)};
   });
   const detail::GlassTiles tiles(e);
+  const detail::CandidateIndex slots(g, cells);  // glass cell -> its slot
   grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& t) {
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
       if (!tiles.near(beam.from, beam.to)) return;
-      const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
-      const double beyond = std::max(o.beyond, 5.0 * sigma);
-      const Vec2 dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
       // A beam that went through a pane may have been folded by it: beyond that pane, where its
       // straight continuation ends says nothing about what it crosses.
-      auto slot = [&](std::size_t i) {
-        return static_cast<std::size_t>(std::lower_bound(cells.begin(), cells.end(), i) - cells.begin());
-      };
+      auto slot = [&](int x, int y) { return static_cast<std::size_t>(slots.find(x, y)); };
       // A return in a glass cell itself.
       const grid::CellIndex end = g.cellAt(beam.to);
-      if (beam.hit && g.contains(end) && is_glass[g.index(end)]) ++t.own[slot(g.index(end))];
-      // The glass cells it crosses, up to where it leaves the first pane.
+      if (beam.hit && g.contains(end) && is_glass[g.index(end)]) ++t.own[slot(end.x, end.y)];
+      // The glass cells it crosses, up to where it leaves the first pane. The beam's terms are
+      // worked out at its first glass cell (most beams near a pane cross none).
       bool in_glass = false;
+      double beyond = 0.0;
+      Vec2 dir = Vec2::Zero();
       grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
         const std::size_t i = g.index(x, y);
         if (!is_glass[i]) return !in_glass;  // past the first pane: nothing more counts
+        if (!in_glass) {
+          const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
+          beyond = std::max(o.beyond, 5.0 * sigma);
+          dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
+        }
         in_glass = true;
         if (last) return false;
-        const std::size_t c = slot(i);
+        const std::size_t c = slot(x, y);
         const Vec2 n = dir.dot(normals[c]) >= 0.0 ? normals[c] : Vec2(-normals[c]);
         const double past = n.dot(beam.to - g.center(x, y));
         ++(!beam.hit || past >= beyond ? t.pass[c] : t.stop[c]);

@@ -87,6 +87,7 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
   const grid::GridGeometry& g = e.geometry;
 
   const detail::GlassTiles tiles(e);
+  const detail::CandidateIndex candidates(e);
 
   // Per thread: returns and folded returns per candidate cell, beam counts. Integer sums, so the
   // result does not depend on how the scans were shared out.
@@ -101,50 +102,52 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
     return t;
   });
   grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& tally) {
-    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (!beam.hit) return;
-      const grid::CellIndex end = g.cellAt(beam.to);
-      if (!g.contains(end)) return;
-      const std::int64_t c = e.candidate(static_cast<std::uint32_t>(g.index(end)));
-      if (c < 0) return;
-      ++tally.returns[static_cast<std::size_t>(c)];
-      if (!tiles.near(beam.from, beam.to)) return;
-      const double glass_until = beam.range - options.glass_margin;
-      const double block_until = beam.range - options.block_margin;
-      bool through_glass = false, is_folded = false;
-      int pane_label = -1;
-      Vec2 pane_at = Vec2::Zero();
-      grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool) {
-        const double d = t * beam.range;
-        if (d >= glass_until) return false;
-        const int l = e.label[g.index(x, y)];
-        if (isGlass(l)) {
-          if (!through_glass) {
-            pane_label = l;
-            pane_at = beam.from + d * (beam.to - beam.from) / beam.range;
-          }
-          through_glass = true;
-        } else if (through_glass && l == kOccupied && d < block_until) {
-          // Blocked only if the reading lies well beyond the wall's line, not just further
-          // along a wall the beam grazes (a pane's frame, a corner).
-          Vec2 n;
-          const Vec2 centre = g.origin + (Vec2(x, y) + Vec2(0.5, 0.5)) * g.resolution;
-          if (wallNormal(e, x, y, n) && std::abs(n.dot(beam.to - centre)) >= options.block_margin) {
-            is_folded = true;
-            return false;
-          }
-        }
-        return true;
-      });
-      // A reading in a glass cell beyond a pane whose mirror image (across that pane) is a
-      // surface in front of it: the path the pane folded, which draws a phantom pane with the
-      // very signature of glass (the mirrored pane's direct returns, from one angle).
-      if (through_glass && !is_folded && isGlass(e.label[g.index(end)]))
-        is_folded = mirrorsASurface(e, pane_label, pane_at, beam.to, options.block_margin);
-      tally.through_glass += through_glass;
-      tally.folded_beams += is_folded;
-      tally.folded[static_cast<std::size_t>(c)] += is_folded;
-    });
+    grid::forEachBeam(
+        scan, beams,
+        [&](const grid::Beam& beam) {
+          const grid::CellIndex end = g.cellAt(beam.to);
+          if (!g.contains(end)) return;
+          const std::int64_t c = candidates.find(end.x, end.y);
+          if (c < 0) return;
+          ++tally.returns[static_cast<std::size_t>(c)];
+          if (!tiles.near(beam.from, beam.to)) return;
+          const double glass_until = beam.range - options.glass_margin;
+          const double block_until = beam.range - options.block_margin;
+          bool through_glass = false, is_folded = false;
+          int pane_label = -1;
+          Vec2 pane_at = Vec2::Zero();
+          grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool) {
+            const double d = t * beam.range;
+            if (d >= glass_until) return false;
+            const int l = e.label[g.index(x, y)];
+            if (isGlass(l)) {
+              if (!through_glass) {
+                pane_label = l;
+                pane_at = beam.from + d * (beam.to - beam.from) / beam.range;
+              }
+              through_glass = true;
+            } else if (through_glass && l == kOccupied && d < block_until) {
+              // Blocked only if the reading lies well beyond the wall's line, not just further
+              // along a wall the beam grazes (a pane's frame, a corner).
+              Vec2 n;
+              const Vec2 centre = g.origin + (Vec2(x, y) + Vec2(0.5, 0.5)) * g.resolution;
+              if (wallNormal(e, x, y, n) && std::abs(n.dot(beam.to - centre)) >= options.block_margin) {
+                is_folded = true;
+                return false;
+              }
+            }
+            return true;
+          });
+          // A reading in a glass cell beyond a pane whose mirror image (across that pane) is a
+          // surface in front of it: the path the pane folded, which draws a phantom pane with the
+          // very signature of glass (the mirrored pane's direct returns, from one angle).
+          if (through_glass && !is_folded && isGlass(e.label[g.index(end)]))
+            is_folded = mirrorsASurface(e, pane_label, pane_at, beam.to, options.block_margin);
+          tally.through_glass += through_glass;
+          tally.folded_beams += is_folded;
+          tally.folded[static_cast<std::size_t>(c)] += is_folded;
+        },
+        grid::BeamFilter::Hit);
   });
 
   std::vector<std::uint32_t> returns(e.cells.size(), 0), folded(e.cells.size(), 0);

@@ -26,8 +26,9 @@ NoReturnStops noReturnStops(const LaserLog& log, const BeamOptions& options, con
     forEachBeam(scan, options, [&](const Beam& beam) {
       const int bin = angleBin(beam.angle, bins);
       if (beam.no_return) {
+        AngleHistograms::Cursor candidates(hist);
         traverse(g, beam.from, beam.to, [&](int x, int y, double, bool) {
-          const std::int32_t id = hist.find(x, y);
+          const std::int32_t id = candidates.find(x, y);
           if (id != AngleHistograms::kNone) hist.addMiss(part, id, bin);
         });
       } else if (beam.hit) {
@@ -68,20 +69,24 @@ IntegrationStats integrateNoReturns(const LaserLog& log, const BeamOptions& opti
   };
   tbb::enumerable_thread_specific<Part> parts([&] { return Part{HitMissGrid(g), hist.emptyCounts(), {}}; });
   forScansInParallel(log, progress, parts, [&](const LaserScan& scan, std::size_t, Part& part) {
-    forEachBeam(scan, options, [&](const Beam& beam) {
-      if (!beam.no_return) return;
-      const int bin = angleBin(beam.angle, bins);
-      part.stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double, bool) {
-        const std::int32_t id = hist.find(x, y);
-        if (id != AngleHistograms::kNone) {
-          if (stops.stops(id, bin)) return false;  // more likely lost here than passed
-          hist.addMiss(part.hist, id, bin);
-        }
-        part.counts.addMiss(x, y);
-        return true;
-      });
-      ++part.stats.beams;
-    });
+    forEachBeam(
+        scan, options,
+        [&](const Beam& beam) {
+          const int bin = angleBin(beam.angle, bins);
+          AngleHistograms::Cursor candidates(hist);
+          HitMissGrid::Cursor cells(part.counts);
+          part.stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double, bool) {
+            const std::int32_t id = candidates.find(x, y);
+            if (id != AngleHistograms::kNone) {
+              if (stops.stops(id, bin)) return false;  // more likely lost here than passed
+              hist.addMiss(part.hist, id, bin);
+            }
+            cells.addMiss(x, y);
+            return true;
+          });
+          ++part.stats.beams;
+        },
+        BeamFilter::NoReturn);
     ++part.stats.scans;
   });
   IntegrationStats total;

@@ -22,9 +22,8 @@ GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOp
   tbb::enumerable_thread_specific<Eigen::AlignedBox2d> boxes;
   forScansInParallel(log, {}, boxes, [&](const LaserScan& scan, std::size_t, Eigen::AlignedBox2d& b) {
     b.extend(scan.laser_pose.t);
-    forEachBeam(scan, options, [&](const Beam& beam) {
-      if (!(beam.no_return && options.deferNoReturns())) b.extend(beam.to);
-    });
+    forEachBeam(
+        scan, options, [&](const Beam& beam) { b.extend(beam.to); }, passBeams(options));
   });
   Eigen::AlignedBox2d box;
   for (const Eigen::AlignedBox2d& b : boxes) box.extend(b);
@@ -41,29 +40,35 @@ struct Part {
   IntegrationStats stats;
 };
 
-// One pass over every beam of the log, scans in parallel: visit(counts, beam_key, x, y, is_hit)
-// for the end cell of a hit inside the grid (is_hit) and for each traversed cell that counts as a
-// miss, into the thread's own counts; the parts are then handed to merge(counts) one by one.
-template <typename Counts, typename Make, typename Prepare, typename Visit, typename Merge>
+// One pass over every beam of the log, scans in parallel: prepare(counts, beam) makes the beam's
+// visitor into the thread's own counts, called visit(x, y, is_hit) for the end cell of a hit inside
+// the grid (is_hit) and for each traversed cell that counts as a miss; the parts are then handed
+// to merge(counts) one by one.
+template <typename Counts, typename Make, typename Prepare, typename Merge>
 IntegrationStats integratePass(const LaserLog& log, const BeamOptions& options, const GridGeometry& g,
-                               const Progress& progress, Make make, Prepare prepare, Visit visit, Merge merge) {
+                               const Progress& progress, Make make, Prepare prepare, Merge merge) {
   tbb::enumerable_thread_specific<Part<Counts>> parts([&] { return Part<Counts>{make(), {}}; });
   forScansInParallel(log, progress, parts, [&](const LaserScan& scan, std::size_t, Part<Counts>& part) {
     IntegrationStats& stats = part.stats;
-    forEachBeam(scan, options, [&](const Beam& beam) {
-      if (beam.no_return && options.deferNoReturns()) return;
-      const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
-      const auto per_beam = prepare(beam);
-      stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
-        if (end_inside && last) {
-          visit(part.counts, per_beam, x, y, true);
-        } else if (countsMiss(beam, t * beam.range, options.miss_margin)) {
-          visit(part.counts, per_beam, x, y, false);
-        }
-      });
-      ++stats.beams;
-      stats.hit_beams += beam.hit ? 1 : 0;
-    });
+    forEachBeam(
+        scan, options,
+        [&](const Beam& beam) {
+          const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
+          auto visit = prepare(part.counts, beam);
+          // countsMiss with its per-beam terms hoisted (the same comparison).
+          const bool all_miss = !beam.hit;
+          const double range = beam.range, miss_before = beam.range - options.miss_margin;
+          stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
+            if (end_inside && last) {
+              visit(x, y, true);
+            } else if (all_miss || t * range < miss_before) {
+              visit(x, y, false);
+            }
+          });
+          ++stats.beams;
+          stats.hit_beams += beam.hit ? 1 : 0;
+        },
+        passBeams(options));
     ++stats.scans;
   });
   IntegrationStats total;
@@ -80,13 +85,14 @@ IntegrationStats integrateCounts(const LaserLog& log, const BeamOptions& options
                                  const Progress& progress) {
   return integratePass<HitMissGrid>(
       log, options, grid.geometry(), progress, [&] { return HitMissGrid(grid.geometry()); },
-      [](const Beam&) { return 0; },
-      [](HitMissGrid& counts, int, int x, int y, bool hit) {
-        if (hit) {
-          counts.addHit(x, y);
-        } else {
-          counts.addMiss(x, y);
-        }
+      [](HitMissGrid& counts, const Beam&) {
+        return [cursor = HitMissGrid::Cursor(counts)](int x, int y, bool hit) mutable {
+          if (hit) {
+            cursor.addHit(x, y);
+          } else {
+            cursor.addMiss(x, y);
+          }
+        };
       },
       [&](HitMissGrid&& part) { grid.merge(std::move(part)); });
 }
@@ -96,15 +102,17 @@ IntegrationStats integrateAngles(const LaserLog& log, const BeamOptions& options
   const int bins = histograms.bins();
   return integratePass<std::vector<std::uint16_t>>(
       log, options, histograms.geometry(), progress, [&] { return histograms.emptyCounts(); },
-      [bins](const Beam& beam) { return angleBin(beam.angle, bins); },
-      [&](std::vector<std::uint16_t>& counts, int bin, int x, int y, bool hit) {
-        const std::int32_t id = histograms.find(x, y);
-        if (id == AngleHistograms::kNone) return;
-        if (hit) {
-          histograms.addHit(counts, id, bin);
-        } else {
-          histograms.addMiss(counts, id, bin);
-        }
+      [&](std::vector<std::uint16_t>& counts, const Beam& beam) {
+        return [&counts, &histograms, bin = angleBin(beam.angle, bins), cursor = AngleHistograms::Cursor(histograms)](
+                   int x, int y, bool hit) mutable {
+          const std::int32_t id = cursor.find(x, y);
+          if (id == AngleHistograms::kNone) return;
+          if (hit) {
+            histograms.addHit(counts, id, bin);
+          } else {
+            histograms.addMiss(counts, id, bin);
+          }
+        };
       },
       [&](std::vector<std::uint16_t>&& part) { histograms.merge(part); });
 }

@@ -295,6 +295,91 @@ TEST(ParallelPasses, CountsAndHistogramsDoNotDependOnTheThreadCount) {
   EXPECT_FALSE(h1.empty());
 }
 
+// Each filter hands out exactly the beams of its kind, field for field the beams of BeamFilter::All.
+TEST(ScanIntegration, BeamFiltersHandOutTheBeamsOfTheirKindUnchanged) {
+  LaserScan scan;
+  scan.max_range = 8.0;
+  scan.start_angle = deg2rad(-90.0);
+  scan.angular_step = deg2rad(0.7);
+  scan.laser_pose = Pose2(1.3, -0.4, 0.9);
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  // Returns, one in the dead zone, ones beyond the cap, max-range and non-finite readings.
+  for (float r : {2.5f, 0.01f, 7.0f, 8.0f, 9.5f, inf, nan, 4.0f, 3.25f, 8.0f}) scan.ranges.push_back(r);
+  BeamOptions opt;
+  opt.range_cap = 5.0;
+  opt.no_return_range = 6.0;
+  auto collect = [&](BeamFilter f) {
+    std::vector<Beam> out;
+    forEachBeam(
+        scan, opt, [&](const Beam& b) { out.push_back(b); }, f);
+    return out;
+  };
+  const std::vector<Beam> all = collect(BeamFilter::All);
+  auto same = [](const std::vector<Beam>& got, const std::vector<Beam>& want) {
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t i = 0; i < got.size(); ++i) {
+      EXPECT_EQ(got[i].from, want[i].from);
+      EXPECT_EQ(got[i].to, want[i].to);  // bit for bit: the same trigonometry
+      EXPECT_EQ(got[i].angle, want[i].angle);
+      EXPECT_EQ(got[i].range, want[i].range);
+      EXPECT_EQ(got[i].hit, want[i].hit);
+      EXPECT_EQ(got[i].no_return, want[i].no_return);
+    }
+  };
+  std::vector<Beam> returned, no_return, hit;
+  for (const Beam& b : all) {
+    (b.no_return ? no_return : returned).push_back(b);
+    if (b.hit) hit.push_back(b);
+  }
+  EXPECT_EQ(all.size(), 9U);  // the dead-zone reading is dropped
+  EXPECT_EQ(hit.size(), 3U);  // 7 m returned beyond the 5 m cap: returned, no hit
+  EXPECT_EQ(no_return.size(), 5U);
+  same(collect(BeamFilter::Returned), returned);
+  same(collect(BeamFilter::NoReturn), no_return);
+  same(collect(BeamFilter::Hit), hit);
+  opt.clear_no_return = false;
+  EXPECT_TRUE(collect(BeamFilter::NoReturn).empty());
+  EXPECT_EQ(passBeams(opt), BeamFilter::All);
+  opt.clear_no_return = true;
+  EXPECT_EQ(passBeams(opt), BeamFilter::Returned);
+}
+
+// The walk cursors count and find exactly what the grid's own calls do, across tile borders.
+TEST(ScanIntegration, CursorsEqualTheGridsOwnLookups) {
+  GridGeometry g = smallGrid();
+  g.width = 100;
+  g.height = 70;
+  HitMissGrid direct(g), walked(g);
+  HitMissGrid::Cursor cursor(walked);
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> ux(0, g.width - 1), uy(0, g.height - 1), coin(0, 1);
+  for (int k = 0; k < 20000; ++k) {
+    const int x = ux(rng), y = uy(rng);
+    if (coin(rng)) {
+      direct.addHit(x, y);
+      cursor.addHit(x, y);
+    } else {
+      direct.addMiss(x, y);
+      cursor.addMiss(x, y);
+    }
+  }
+  EXPECT_EQ(direct.allocatedTiles(), walked.allocatedTiles());
+  AngleHistograms hist(direct, 36, 2);
+  AngleHistograms::Cursor find(hist);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const CellCounts a = direct.get(x, y), b = walked.get(x, y);
+      EXPECT_EQ(a.hits, b.hits);
+      EXPECT_EQ(a.misses, b.misses);
+    }
+  // Rows and columns both ways, so the cursor steps across tiles in every direction.
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) EXPECT_EQ(find.find(x, y), hist.find(x, y));
+  for (int x = g.width - 1; x >= 0; --x)
+    for (int y = g.height - 1; y >= 0; --y) EXPECT_EQ(find.find(x, y), hist.find(x, y));
+  EXPECT_GT(hist.size(), 0U);
+}
+
 }  // namespace
 }  // namespace glassmap::grid
 

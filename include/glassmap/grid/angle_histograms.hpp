@@ -38,6 +38,28 @@ class AngleHistograms {
     if (!tile) return kNone;
     return tile[((y & (kTileSize - 1)) << kTileBits) | (x & (kTileSize - 1))];
   }
+  /// find() for a walk that visits neighbouring cells in turn: keeps the index tile of the last
+  /// cell (a step within it looks up no tile). The histograms must outlive the cursor.
+  class Cursor {
+   public:
+    explicit Cursor(const AngleHistograms& h) : h_(&h) {}
+    std::int32_t find(int x, int y) {
+      const int tx = x >> kTileBits, ty = y >> kTileBits;
+      if (tx != tx_ || ty != ty_) {
+        tile_ = h_->tiles_[h_->tileIndex(x, y)].get();
+        tx_ = tx;
+        ty_ = ty;
+      }
+      if (!tile_) return kNone;
+      return tile_[((y & (kTileSize - 1)) << kTileBits) | (x & (kTileSize - 1))];
+    }
+
+   private:
+    const AngleHistograms* h_;
+    const std::int32_t* tile_ = nullptr;
+    int tx_ = -1, ty_ = -1;
+  };
+
   /// Linear cell index (GridGeometry::index) of candidate id.
   std::uint32_t cell(std::int32_t id) const { return cells_[static_cast<std::size_t>(id)]; }
   /// Hits of candidate id per bin (bins() values).

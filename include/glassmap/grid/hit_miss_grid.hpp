@@ -65,6 +65,37 @@ class HitMissGrid {
     if (c.misses != 0xFFFF) ++c.misses;
   }
 
+  /// addHit/addMiss for a walk that visits neighbouring cells in turn: keeps the tile of the last
+  /// cell, so a step within it looks up no tile. The grid must outlive the cursor.
+  class Cursor {
+   public:
+    explicit Cursor(HitMissGrid& grid) : grid_(&grid) {}
+    CellCounts& at(int x, int y) {
+      const int tx = x >> kTileBits, ty = y >> kTileBits;
+      if (tx != tx_ || ty != ty_) {
+        auto& tile = grid_->tiles_[grid_->tileIndex(x, y)];
+        if (!tile) tile = grid_->allocateTile();
+        tile_ = tile.get();
+        tx_ = tx;
+        ty_ = ty;
+      }
+      return tile_[((y & (kTileSize - 1)) << kTileBits) | (x & (kTileSize - 1))];
+    }
+    void addHit(int x, int y) {
+      auto& c = at(x, y);
+      if (c.hits != 0xFFFF) ++c.hits;
+    }
+    void addMiss(int x, int y) {
+      auto& c = at(x, y);
+      if (c.misses != 0xFFFF) ++c.misses;
+    }
+
+   private:
+    HitMissGrid* grid_;
+    CellCounts* tile_ = nullptr;
+    int tx_ = -1, ty_ = -1;
+  };
+
   /// Adds other's counts (same geometry) cell by cell, saturating like addHit/addMiss: a grid
   /// filled in parts and merged equals one filled in one go, whatever the order.
   void merge(const HitMissGrid& other);

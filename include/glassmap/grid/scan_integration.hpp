@@ -61,28 +61,43 @@ inline bool countsMiss(const Beam& beam, double enter, double miss_margin) {
   return !beam.hit || enter < beam.range - miss_margin;
 }
 
-/// Calls fn(const Beam&) for every usable beam of scan (see BeamOptions).
+/// Which usable beams forEachBeam hands to its callback; the others cost no trigonometry.
+enum class BeamFilter {
+  All,       ///< every usable beam
+  Returned,  ///< beams with an echo (hits and returns beyond the range cap)
+  NoReturn,  ///< no-return and max-range readings
+  Hit,       ///< beams that returned within the range cap
+};
+
+/// Calls fn(const Beam&) for every usable beam of scan (see BeamOptions) that `filter` lets through.
 template <class Fn>
-void forEachBeam(const LaserScan& scan, const BeamOptions& options, Fn&& fn) {
+void forEachBeam(const LaserScan& scan, const BeamOptions& options, Fn&& fn, BeamFilter filter = BeamFilter::All) {
   const double cap = options.range_cap;
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
     const float r = scan.ranges[i];
     Beam beam;
-    beam.angle = scan.laser_pose.theta + scan.beamAngle(i);
     if (scan.isReturn(i)) {
-      if (r < options.min_range) continue;
+      if (r < options.min_range || filter == BeamFilter::NoReturn) continue;
       beam.hit = r <= cap;
+      if (!beam.hit && filter == BeamFilter::Hit) continue;
       beam.range = beam.hit ? static_cast<double>(r) : cap;  // beyond the cap: clear up to it
     } else {
-      if (!options.clear_no_return) continue;
+      if (!options.clear_no_return || filter == BeamFilter::Returned || filter == BeamFilter::Hit) continue;
       beam.no_return = true;
       const double clear = options.no_return_range > 0 ? std::min(cap, options.no_return_range) : cap;
       beam.range = scan.max_range > 0 ? std::min(clear, scan.max_range) : clear;
     }
+    beam.angle = scan.laser_pose.theta + scan.beamAngle(i);
     beam.from = scan.laser_pose.t;
     beam.to = beam.from + beam.range * Vec2(std::cos(beam.angle), std::sin(beam.angle));
     fn(beam);
   }
+}
+
+/// The beams the passes over returned beams walk: with options.deferNoReturns() the no-return
+/// beams are left to integrateNoReturns.
+inline BeamFilter passBeams(const BeamOptions& options) {
+  return options.deferNoReturns() ? BeamFilter::Returned : BeamFilter::All;
 }
 
 /// A grid covering every laser position and beam segment of the log, plus margin [m].
