@@ -131,16 +131,14 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
           // occupied cell of the standard map along the beam (where glass is mostly invisible).
           double d_real = std::numeric_limits<double>::infinity();
           std::int32_t end_id = AngleHistograms::kNone;
-          // grid::countsMiss with its per-beam terms hoisted (the same comparison).
-          const bool all_miss = !beam.hit;
-          const double range = beam.range, miss_before = beam.range - beams.miss_margin;
+          const grid::MissTest misses(beam, beams.miss_margin);
           st.cells_traversed += grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
             const std::int32_t id = hist.find(x, y);
             if (id == AngleHistograms::kNone) return;
             if (end_inside && last) {
               hist.addHit(part.counts, id, bin);
               end_id = id;
-            } else if (all_miss || t * range < miss_before) {
+            } else if (misses(t)) {
               hist.addMiss(part.counts, id, bin);
             }
             if (occupied[static_cast<std::size_t>(id)] && !std::isfinite(d_real)) d_real = t * beam.range;

@@ -55,13 +55,11 @@ IntegrationStats integratePass(const LaserLog& log, const BeamOptions& options, 
         [&](const Beam& beam) {
           const bool end_inside = beam.hit && g.contains(g.cellAt(beam.to));
           auto visit = prepare(part.counts, beam);
-          // countsMiss with its per-beam terms hoisted (the same comparison).
-          const bool all_miss = !beam.hit;
-          const double range = beam.range, miss_before = beam.range - options.miss_margin;
+          const MissTest misses(beam, options.miss_margin);
           stats.cells_traversed += traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
             if (end_inside && last) {
               visit(x, y, true);
-            } else if (all_miss || t * range < miss_before) {
+            } else if (misses(t)) {
               visit(x, y, false);
             }
           });

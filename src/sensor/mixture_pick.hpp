@@ -10,29 +10,26 @@
 
 namespace glassmap::sensor::detail {
 
-inline MixtureLanesFn mixtureLanes() {
-#if defined(GLASSMAP_MIXTURE_LANES)
-  if (RayCaster::bestIsa() == RayIsa::Avx512) return mixtureLanesAvx512;
-  if (RayCaster::bestIsa() == RayIsa::Avx2) return mixtureLanesAvx2;
-#endif
-  return nullptr;
+/// The kernel of the best instruction set this CPU has among AVX-512 and AVX2 (null: neither).
+template <class Fn>
+Fn forBestIsa(Fn avx512, Fn avx2) {
+  switch (RayCaster::bestIsa()) {
+    case RayIsa::Avx512: return avx512;
+    case RayIsa::Avx2: return avx2;
+    default: return nullptr;
+  }
 }
 
+#if defined(GLASSMAP_MIXTURE_LANES)
+inline MixtureLanesFn mixtureLanes() { return forBestIsa(mixtureLanesAvx512, mixtureLanesAvx2); }
 /// The glass model's kernels this CPU runs (null: none; GlassModel's scalar pieces then).
-inline GlassWeightsFn glassWeightsLanes() {
-#if defined(GLASSMAP_MIXTURE_LANES)
-  if (RayCaster::bestIsa() == RayIsa::Avx512) return glassWeightsAvx512;
-  if (RayCaster::bestIsa() == RayIsa::Avx2) return glassWeightsAvx2;
+inline GlassWeightsFn glassWeightsLanes() { return forBestIsa(glassWeightsAvx512, glassWeightsAvx2); }
+inline GlassModesFn glassModesLanes() { return forBestIsa(glassModesAvx512, glassModesAvx2); }
+#else
+inline MixtureLanesFn mixtureLanes() { return nullptr; }
+inline GlassWeightsFn glassWeightsLanes() { return nullptr; }
+inline GlassModesFn glassModesLanes() { return nullptr; }
 #endif
-  return nullptr;
-}
-inline GlassModesFn glassModesLanes() {
-#if defined(GLASSMAP_MIXTURE_LANES)
-  if (RayCaster::bestIsa() == RayIsa::Avx512) return glassModesAvx512;
-  if (RayCaster::bestIsa() == RayIsa::Avx2) return glassModesAvx2;
-#endif
-  return nullptr;
-}
 
 /// The lanes' numbers for reading z < z_max of one beam.
 inline MixtureLanes lanesFor(const Mixture& mix, double z, double z_max, double short_numerator) {

@@ -48,22 +48,16 @@ class HitMissGrid {
   CellCounts& at(int x, int y) {
     auto& tile = tiles_[tileIndex(x, y)];
     if (!tile) tile = allocateTile();
-    return tile[((y & (kTileSize - 1)) << kTileBits) | (x & (kTileSize - 1))];
+    return tile[offset(x, y)];
   }
   /// Counts of cell (x, y); zero if never touched or outside the grid.
   CellCounts get(int x, int y) const {
     if (!geometry_.contains(x, y)) return {};
     const auto& tile = tiles_[tileIndex(x, y)];
-    return tile ? tile[((y & (kTileSize - 1)) << kTileBits) | (x & (kTileSize - 1))] : CellCounts{};
+    return tile ? tile[offset(x, y)] : CellCounts{};
   }
-  void addHit(int x, int y) {
-    auto& c = at(x, y);
-    if (c.hits != 0xFFFF) ++c.hits;
-  }
-  void addMiss(int x, int y) {
-    auto& c = at(x, y);
-    if (c.misses != 0xFFFF) ++c.misses;
-  }
+  void addHit(int x, int y) { bump(at(x, y).hits); }
+  void addMiss(int x, int y) { bump(at(x, y).misses); }
 
   /// addHit/addMiss for a walk that visits neighbouring cells in turn: keeps the tile of the last
   /// cell, so a step within it looks up no tile. The grid must outlive the cursor.
@@ -79,16 +73,10 @@ class HitMissGrid {
         tx_ = tx;
         ty_ = ty;
       }
-      return tile_[((y & (kTileSize - 1)) << kTileBits) | (x & (kTileSize - 1))];
+      return tile_[offset(x, y)];
     }
-    void addHit(int x, int y) {
-      auto& c = at(x, y);
-      if (c.hits != 0xFFFF) ++c.hits;
-    }
-    void addMiss(int x, int y) {
-      auto& c = at(x, y);
-      if (c.misses != 0xFFFF) ++c.misses;
-    }
+    void addHit(int x, int y) { bump(at(x, y).hits); }
+    void addMiss(int x, int y) { bump(at(x, y).misses); }
 
    private:
     HitMissGrid* grid_;
@@ -111,6 +99,14 @@ class HitMissGrid {
   std::size_t bytes() const;
 
  private:
+  /// Saturating count: the grid's 16-bit counts stop at 65535.
+  static void bump(std::uint16_t& n) {
+    if (n != 0xFFFF) ++n;
+  }
+  /// Index of cell (x, y) inside its tile.
+  static std::size_t offset(int x, int y) {
+    return static_cast<std::size_t>(((y & (kTileSize - 1)) << kTileBits) | (x & (kTileSize - 1)));
+  }
   std::size_t tileIndex(int x, int y) const {
     return static_cast<std::size_t>(y >> kTileBits) * tiles_x_ + static_cast<std::size_t>(x >> kTileBits);
   }

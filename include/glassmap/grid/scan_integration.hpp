@@ -56,10 +56,20 @@ struct Beam {
   bool no_return = false;  ///< true: a no-return or max-range reading (no echo at all)
 };
 
-/// True if a cell entered at distance `enter` [m] along a beam counts a miss (see miss_margin).
-inline bool countsMiss(const Beam& beam, double enter, double miss_margin) {
-  return !beam.hit || enter < beam.range - miss_margin;
-}
+/// Whether a cell a beam enters counts a miss (see miss_margin): every cell of a beam without a
+/// hit, and the cells of a hit entered more than miss_margin before its reading. Made once per
+/// beam (the walks call it per cell).
+class MissTest {
+ public:
+  MissTest(const Beam& beam, double miss_margin)
+      : all_(!beam.hit), range_(beam.range), before_(beam.range - miss_margin) {}
+  /// t: where the cell is entered, as a fraction of the beam (traverse's t) [-].
+  bool operator()(double t) const { return all_ || t * range_ < before_; }
+
+ private:
+  bool all_;
+  double range_, before_;
+};
 
 /// Which usable beams forEachBeam hands to its callback; the others cost no trigonometry.
 enum class BeamFilter {
