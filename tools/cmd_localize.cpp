@@ -61,9 +61,11 @@ void run(const LocalizeArgs& a) {
   options.sensor.glass_as = sensor::parseGlassAs(a.glass_as);
   options.sensor.sigma_hit = a.sigma_hit;
   if (!a.sensor.empty()) {
-    options.sensor = sensor::paramsFromProfile(readSensorProfile(a.sensor), options.sensor, sensor::kMinProfileSigmaHit,
-                                               sensor::typicalRange(log));
-    if (a.sigma_hit_given) options.sensor.sigma_hit = a.sigma_hit;  // an explicit option wins
+    options.sensor = sensor::paramsFromProfile(readSensorProfile(a.sensor), options.sensor);
+    if (a.sigma_hit_given) {  // an explicit option wins: one sigma for every beam
+      options.sensor.sigma_hit = a.sigma_hit;
+      options.sensor.sigma_hit_rel = 0.0;
+    }
   }
   localize::LocalizeOptions& opt = options.filter;
   opt.beams = a.beams;
@@ -116,9 +118,10 @@ void run(const LocalizeArgs& a) {
     const sensor::SensorParams& p = r.final_params;
     const double sum = p.z_hit + p.z_short + p.z_max + p.z_rand;
     std::printf(
-        "%-18s %12.4f  (hit %.3f, short %.3f, max %.3f, random %.3f; glass lobe %.2f at %.1f deg, floor %.3f)\n",
-        "sigma_hit m", p.sigma_hit, p.z_hit / sum, p.z_short / sum, p.z_max / sum, p.z_rand / sum, p.direct_peak,
-        p.direct_sigma_deg, p.direct_floor);
+        "%-18s %12.4f  (+ %.2f%% of the range; hit %.3f, short %.3f, max %.3f, random %.3f; glass lobe %.2f at %.1f "
+        "deg, floor %.3f)\n",
+        "sigma_hit m", p.sigma_hit, 100.0 * p.sigma_hit_rel, p.z_hit / sum, p.z_short / sum, p.z_max / sum,
+        p.z_rand / sum, p.direct_peak, p.direct_sigma_deg, p.direct_floor);
     std::size_t applied = 0;
     for (const auto& f : r.calibrations) applied += f.applied;
     std::printf("%-18s %12zu  (%s)\n", "self-calibrations", applied,
@@ -163,13 +166,16 @@ const cli::Registrar reg(60, [](CLI::App& app) {
   sub->add_option("--laser-offset", a->laser_offset, "laser pose on the robot x,y,theta [m,m,rad] (default 0,0,0)");
   cli::addUnitsOption(*sub, a->units);
   cli::addLayersOption(*sub, a->layers);
-  sub->add_option("--sigma-hit", a->sigma_hit, "range std dev of the sensor models [m]")
+  sub->add_option("--sigma-hit", a->sigma_hit,
+                  "range std dev of the sensor models [m], the same for every beam (with --sensor: replaces the\n"
+                  "profile's range noise)")
       ->capture_default_str()
       ->each([a](const std::string&) { a->sigma_hit_given = true; });
   sub->add_option("--sensor", a->sensor,
                   "sensor profile YAML (glassmap calibrate, or a map folder's sensor.yaml): the glass lobe\n"
-                  "(peak, sigma, floor), the reflection rate, the mixture weights and sigma_hit = the\n"
-                  "profile's range noise, at least 2 cm (a floorplan is never drawn to the millimetre)")
+                  "(peak, sigma, floor), the reflection rate, the mixture weights and the range noise beam by\n"
+                  "beam, hypot(sigma_0, rel z) with the profile's sigma_0 (at least 2 cm: a floorplan is never\n"
+                  "drawn to the millimetre) and growth rel")
       ->check(CLI::ExistingFile);
   sub->add_option("--global-temperature", a->global_temperature,
                   "global localization and probes: a broad hypothesis divides its particles' log-likelihoods by\n"

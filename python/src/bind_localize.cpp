@@ -150,9 +150,12 @@ void bindLocalize(py::module_& m) {
         options.sensor.glass_as = sensor::parseGlassAs(glass_as);
         options.sensor.sigma_hit = sigma_hit;
         if (sensor) {
-          options.sensor = sensor::paramsFromProfile(profileFrom(sensor, "localize(): option 'sensor'"), options.sensor,
-                                                     sensor::kMinProfileSigmaHit, sensor::typicalRange(log->log));
-          if (sigma_hit_given) options.sensor.sigma_hit = sigma_hit;  // an explicit option wins
+          options.sensor =
+              sensor::paramsFromProfile(profileFrom(sensor, "localize(): option 'sensor'"), options.sensor);
+          if (sigma_hit_given) {  // an explicit option wins: one sigma for every beam
+            options.sensor.sigma_hit = sigma_hit;
+            options.sensor.sigma_hit_rel = 0.0;
+          }
         }
         opt.self_calibration.enabled = !sensor && !no_self_calibrate;  // as the command line
         if (!init.is_none()) {

@@ -9,6 +9,7 @@ namespace glassmap::localize {
 SensorProfile profileFromParams(const sensor::SensorParams& p) {
   SensorProfile out;
   out.range_sigma_m = {p.sigma_hit, 0.0, false};
+  out.range_sigma_rel = {p.sigma_hit_rel, 0.0, false};
   out.w_hit = {p.z_hit, 0.0, false};
   out.w_short = {p.z_short, 0.0, false};
   out.w_max = {p.z_max, 0.0, false};
@@ -97,7 +98,7 @@ SelfCalibrationFit SelfCalibrator::fit(const LaserLog& log, const sensor::Sensor
   fit.time = log.scans[scans_.back()].timestamp - log.scans.front().timestamp;
   fit.scans = want;
   fit.trusted_m = trusted_m_;
-  fit.params = sensor::paramsFromProfile(r.profile, current, opt_.min_sigma_hit, sensor::typicalRange(sub));
+  fit.params = sensor::paramsFromProfile(r.profile, current, opt_.min_sigma_hit);
   fit.params.sigma_hit = std::min(fit.params.sigma_hit, opt_.max_sigma_hit);
   const double sum = fit.params.z_hit + fit.params.z_short + fit.params.z_max + fit.params.z_rand;
   fit.applied = sum > 0 && fit.params.z_hit / sum >= opt_.min_hit_weight;

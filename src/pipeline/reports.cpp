@@ -270,11 +270,17 @@ std::size_t peakMemoryBytes() {
 
 nlohmann::json sensorParamsJson(const sensor::SensorParams& p) {
   const double sum = p.z_hit + p.z_short + p.z_max + p.z_rand;
-  return {{"sigma_hit_m", p.sigma_hit},     {"w_hit", p.z_hit / sum},
-          {"w_short", p.z_short / sum},     {"w_max", p.z_max / sum},
-          {"w_rand", p.z_rand / sum},       {"lambda_short", p.lambda_short},
-          {"direct_peak", p.direct_peak},   {"direct_sigma_deg", p.direct_sigma_deg},
-          {"direct_floor", p.direct_floor}, {"normal_lambda_per_deg", p.lambda_normal},
+  return {{"sigma_hit_m", p.sigma_hit},
+          {"sigma_hit_rel", p.sigma_hit_rel},
+          {"w_hit", p.z_hit / sum},
+          {"w_short", p.z_short / sum},
+          {"w_max", p.z_max / sum},
+          {"w_rand", p.z_rand / sum},
+          {"lambda_short", p.lambda_short},
+          {"direct_peak", p.direct_peak},
+          {"direct_sigma_deg", p.direct_sigma_deg},
+          {"direct_floor", p.direct_floor},
+          {"normal_lambda_per_deg", p.lambda_normal},
           {"normal_floor", p.normal_floor}};
 }
 

@@ -31,7 +31,7 @@ void BeamModel::setParams(const SensorParams& params) {
 
 double BeamModel::probability(const Vec2& origin, const Vec2& dir, double z, double max_range) const {
   const double e = caster_.castRange(origin, dir, max_range);  // +inf when nothing is hit
-  return mix_.probability(z, e, max_range);
+  return mix_.at(z).probability(z, e, max_range);
 }
 
 double BeamModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const {
@@ -86,11 +86,12 @@ void BeamModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& beam
     p.resize(nr);
     for (std::size_t i = 0; i < nb; ++i) {
       const double z = beams.ranges[i];
+      const Mixture mix = mix_.at(z);
       const bool lanes = lanes_fn && z < beams.max_range;  // SIMD lanes: equal up to float rounding
       if (lanes)
-        lanes_fn(detail::lanesFor(mix_, z, beams.max_range, short_num[i]), &range[i * n], &p[i * n], &fix[i * n], n);
+        lanes_fn(detail::lanesFor(mix, z, beams.max_range, short_num[i]), &range[i * n], &p[i * n], &fix[i * n], n);
       for (std::size_t k = i * n; k < (i + 1) * n; ++k)
-        if (!lanes || fix[k]) p[k] = mix_.probability(z, range[k], beams.max_range, short_num[i]);
+        if (!lanes || fix[k]) p[k] = mix.probability(z, range[k], beams.max_range, short_num[i]);
     }
     for (std::size_t j = 0; j < n; ++j) {
       double sum = 0.0, block = 1.0;

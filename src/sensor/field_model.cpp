@@ -122,27 +122,38 @@ void FieldModel::setParams(const SensorParams& params) {
 void FieldModel::tabulate(const SensorParams& params) {
   if (!(params.sigma_hit > 0)) throw Error("sigma_hit must be positive", {}, 0, "sigma_hit");
   if (!(params.z_rand > 0)) throw Error("z_rand must be positive", {}, 0, "z_rand");
+  if (!(params.sigma_hit_rel >= 0) || !std::isfinite(params.sigma_hit_rel))
+    throw Error("sigma_hit_rel must be zero or positive", {}, 0, "sigma_hit_rel");
   sigma_ = params.sigma_hit;
+  sigma_rel_ = params.sigma_hit_rel;
+  // The ladder: 16 steps per octave from sigma_hit up to the sigma at max range (at most 8 octaves).
+  const double octaves = std::log2(std::hypot(sigma_, sigma_rel_ * params.max_range) / sigma_);
+  const auto levels = static_cast<std::size_t>(std::ceil(std::min(octaves, 8.0) * kLevelsPerOctave)) + 1;
+  level_sigma_.resize(levels);
+  for (std::size_t k = 0; k < levels; ++k)
+    level_sigma_[k] = sigma_ * std::exp2(static_cast<double>(k) / kLevelsPerOctave);
   // The field model has no short-reading term (AMCL's neither): hit, max and random only.
   const double sum = params.z_hit + params.z_max + params.z_rand;
   w_hit_ = params.z_hit / sum;
   w_max_ = params.z_max / sum;
   w_rand_ = params.z_rand / sum;
-  constexpr int kTable = 4096;
   table_max_range_ = params.max_range;
-  table_inv_step_ = (kTable - 1) / grid_.maxDistance();
-  table_.resize(kTable + 1);
-  const double k = w_hit_ / (std::sqrt(2.0 * kPi) * sigma_), rand = w_rand_ / params.max_range;
-  const double h = -0.5 / (sigma_ * sigma_);
-  for (int i = 0; i <= kTable; ++i) {
-    const double d = std::min(i / table_inv_step_, grid_.maxDistance());
-    table_[static_cast<std::size_t>(i)] = std::log(k * std::exp(h * d * d) + rand);
+  table_inv_step_ = static_cast<double>(kTableSize - 2) / grid_.maxDistance();
+  table_.resize(levels * kTableSize);
+  const double rand = w_rand_ / params.max_range;
+  for (std::size_t step = 0; step < levels; ++step) {
+    const double sigma = level_sigma_[step];
+    const double k = w_hit_ / (std::sqrt(2.0 * kPi) * sigma), h = -0.5 / (sigma * sigma);
+    for (std::size_t i = 0; i < kTableSize; ++i) {
+      const double d = std::min(static_cast<double>(i) / table_inv_step_, grid_.maxDistance());
+      table_[step * kTableSize + i] = std::log(k * std::exp(h * d * d) + rand);
+    }
   }
 }
 
 double FieldModel::logLikelihood(const Pose2& T_map_laser, const Vec2& dir, double z, double max_range) const {
   if (z >= max_range) return std::log(std::max(w_max_, 1e-12));
-  return logHit(grid_.distance(T_map_laser.t + z * dir), max_range);
+  return logHit(grid_.distance(T_map_laser.t + z * dir), max_range, level(z));
 }
 
 double FieldModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams) const {
@@ -154,7 +165,7 @@ double FieldModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams)
       sum += log_max;
       continue;
     }
-    sum += logHit(grid_.distance(T_map_laser.t + R * beams.points[i]), beams.max_range);
+    sum += logHit(grid_.distance(T_map_laser.t + R * beams.points[i]), beams.max_range, level(beams.ranges[i]));
   }
   return sum;
 }
@@ -179,12 +190,13 @@ void FieldModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
         continue;
       }
       const Vec2& q = beams.points[i];
+      const std::size_t lv = level(beams.ranges[i]);
       for (std::size_t j = 0; j < n; ++j) {
         const Pose2& T = poses[j0 + j];
         // As T.t + T.rotation() * q, operation for operation.
         const double rx = c[j] * q.x() + (-s[j]) * q.y(), ry = s[j] * q.x() + c[j] * q.y();
         const Vec2 p(T.t.x() + rx, T.t.y() + ry);
-        sum[j] += logHit(grid_.distance(p), beams.max_range);
+        sum[j] += logHit(grid_.distance(p), beams.max_range, lv);
       }
     }
     for (std::size_t j = 0; j < n; ++j) out[j0 + j] = sum[j];

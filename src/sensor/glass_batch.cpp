@@ -230,7 +230,8 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
       // not ahead: the same p as the full cast, bit for bit. (The paper variant's Gaussians have
       // no cutoff; the transmitted ray's elongation can be negative: both cast in full.)
       const double z = beams.ranges[i];
-      const double reach = variant_ == Variant::Mixture && z < max_range ? z + Mixture::kHitReach * mix_.sigma : kInf;
+      const double reach =
+          variant_ == Variant::Mixture && z < max_range ? z + Mixture::kHitReach * mix_.at(z).sigma : kInf;
       for (std::size_t g = h.beam_start[i]; g < h.beam_start[i + 1]; ++g) {
         const std::int32_t seg = h.pane[g];
         const Vec2 dir(h.ux[g], h.uy[g]);
@@ -281,9 +282,10 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
     s.fix.resize(nr);
     for (std::size_t i = 0; i < nb; ++i) {
       const double z = beams.ranges[i], short_num = s.short_num[i];
+      const Mixture mix = mix_.at(z);
       const bool lanes = lanes_fn && z < max_range;
       if (lanes) {
-        const detail::MixtureLanes ml = detail::lanesFor(mix_, z, max_range, short_num);
+        const detail::MixtureLanes ml = detail::lanesFor(mix, z, max_range, short_num);
         lanes_fn(ml, &s.range[i * n], &s.p[i * n], &s.fix[i * n], n);
         const std::size_t g0 = h.beam_start[i], count = h.beam_start[i + 1] - g0;
         if (modes_fn && variant_ == Variant::Mixture && count > 0) {
@@ -306,7 +308,7 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
         for (std::size_t g = h.beam_start[i]; g < h.beam_start[i + 1]; ++g) h.fix[g] = 1;
       }
       for (std::size_t k = i * n; k < (i + 1) * n; ++k) {
-        if (!s.on_pane[k] && (!lanes || s.fix[k])) s.p[k] = mix_.probability(z, s.range[k], max_range, short_num);
+        if (!s.on_pane[k] && (!lanes || s.fix[k])) s.p[k] = mix.probability(z, s.range[k], max_range, short_num);
       }
       for (std::size_t g = h.beam_start[i]; g < h.beam_start[i + 1]; ++g) {
         if (!h.fix[g]) {
@@ -321,7 +323,7 @@ void GlassModel::logLikelihoods(std::span<const Pose2> poses, const BeamSet& bea
         m.w_refract = h.wr[g];
         m.e_normal = h.en[g];
         m.e_refract = h.er[g];
-        s.p[h.ray[g]] = fromModes(m, z, max_range, short_num);
+        s.p[h.ray[g]] = fromModes(mix, m, z, max_range, short_num);
       }
     }
     // (beam by beam over the poses: the same products and sums per pose, on vector registers)

@@ -116,16 +116,14 @@ double GlassModel::logLikelihood(const Pose2& T_map_laser, const BeamSet& beams)
 double GlassModel::probability(const Vec2& origin, const Vec2& dir, double z, double max_range) const {
   // The incidence angle (an atan) only where the model uses it: on glass.
   RayHit hit = caster_.castSurface(origin, dir, max_range);
-  if (!hit.hit() || hit.material == Material::Wall) return mix_.probability(z, hit.range, max_range);
+  const Mixture mix = mix_.at(z);
+  if (!hit.hit() || hit.material == Material::Wall) return mix.probability(z, hit.range, max_range);
   hit.incidence = caster_.incidence(hit.segment, dir);
-  return fromModes(modes(origin, dir, hit, max_range), z, max_range);
+  return fromModes(mix, modes(origin, dir, hit, max_range), z, max_range, z < max_range ? mix.shortNumerator(z) : 0.0);
 }
 
-double GlassModel::fromModes(const GlassModes& m, double z, double max_range) const {
-  return fromModes(m, z, max_range, z < max_range ? mix_.shortNumerator(z) : 0.0);
-}
-
-double GlassModel::fromModes(const GlassModes& m, double z, double max_range, double short_numerator) const {
+double GlassModel::fromModes(const Mixture& mix, const GlassModes& m, double z, double max_range,
+                             double short_numerator) const {
   const bool max_reading = z >= max_range;
   if (variant_ == Variant::Mixture) {
     const double sum = m.w_direct + m.w_normal + m.w_refract;  // > 0: w_normal never vanishes
@@ -134,25 +132,25 @@ double GlassModel::fromModes(const GlassModes& m, double z, double max_range, do
     if (max_reading) {
       // Modes whose surface lies beyond z_max put their weight on the max reading.
       const double beyond = (m.e_normal < max_range ? 0.0 : wn) + (m.e_refract < max_range ? 0.0 : wr);
-      p = mix_.w_max + mix_.w_hit * beyond;
+      p = mix.w_max + mix.w_hit * beyond;
     } else {
-      const double hit_density = wd * mix_.hitDensity(z, m.d_g, max_range) +
-                                 wn * mix_.hitDensity(z, m.e_normal, max_range) +
-                                 wr * mix_.hitDensity(z, m.e_refract, max_range);
-      p = mix_.w_hit * hit_density + mix_.w_short * mix_.shortDensity(z, m.d_g, max_range, short_numerator) +
-          mix_.w_rand / max_range;
+      const double hit_density = wd * mix.hitDensity(z, m.d_g, max_range) +
+                                 wn * mix.hitDensity(z, m.e_normal, max_range) +
+                                 wr * mix.hitDensity(z, m.e_refract, max_range);
+      p = mix.w_hit * hit_density + mix.w_short * mix.shortDensity(z, m.d_g, max_range, short_numerator) +
+          mix.w_rand / max_range;
     }
     return p;
   }
   // Paper 2.4, as written: alpha_1 = (z, ref), alpha_2 = (z, norm), alpha_3 = (z, direct), each the
   // mode's weight times an unnormalised Gaussian; a mode meeting nothing expects z_max.
   const double zz = std::min(z, max_range);
-  const double a1 = m.w_refract * mix_.gauss(zz, std::min(m.e_refract, max_range));
-  const double a2 = m.w_normal * mix_.gauss(zz, std::min(m.e_normal, max_range));
-  const double a3 = m.w_direct * mix_.gauss(zz, m.d_g);
+  const double a1 = m.w_refract * mix.gauss(zz, std::min(m.e_refract, max_range));
+  const double a2 = m.w_normal * mix.gauss(zz, std::min(m.e_normal, max_range));
+  const double a3 = m.w_direct * mix.gauss(zz, m.d_g);
   const double p = a1 + a2 + a3 - a1 * a2 - a1 * a3 - a2 * a3;
   // Guard: the formula goes negative when two densities exceed 1; floor at the random density.
-  return std::max(p, mix_.w_rand / max_range);
+  return std::max(p, mix.w_rand / max_range);
 }
 
 }  // namespace glassmap::sensor

@@ -10,8 +10,10 @@ namespace {
 double phi(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
 }  // namespace
 
-Mixture::Mixture(const SensorParams& p) : sigma(p.sigma_hit), lambda_short(p.lambda_short) {
-  if (p.sigma_hit <= 0) throw Error("sigma_hit must be positive", {}, 0, "sigma_hit");
+Mixture::Mixture(const SensorParams& p) : sigma(p.sigma_hit), sigma_rel(p.sigma_hit_rel), lambda_short(p.lambda_short) {
+  if (!(p.sigma_hit > 0)) throw Error("sigma_hit must be positive", {}, 0, "sigma_hit");
+  if (!(p.sigma_hit_rel >= 0) || !std::isfinite(p.sigma_hit_rel))
+    throw Error("sigma_hit_rel must be zero or positive", {}, 0, "sigma_hit_rel");
   if (p.z_hit < 0 || p.z_short < 0 || p.z_max < 0 || p.z_rand < 0)
     throw Error("mixture weights must not be negative", {}, 0, "z_hit");
   if (p.z_rand <= 0) throw Error("z_rand must be positive (it bounds the log-likelihood)", {}, 0, "z_rand");

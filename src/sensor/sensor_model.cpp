@@ -76,9 +76,9 @@ std::unique_ptr<SensorModel> makeSensorModel(std::string_view name, const Vector
               "model");
 }
 
-SensorParams paramsFromProfile(const SensorProfile& p, SensorParams base, double min_sigma_hit,
-                               double typical_range_m) {
-  base.sigma_hit = std::max(rangeSigmaAt(p, typical_range_m), min_sigma_hit);
+SensorParams paramsFromProfile(const SensorProfile& p, SensorParams base, double min_sigma_hit) {
+  base.sigma_hit = std::max(p.range_sigma_m.value, min_sigma_hit);
+  base.sigma_hit_rel = std::max(p.range_sigma_rel.value, 0.0);
   base.z_hit = p.w_hit.value;
   base.z_short = p.w_short.value;
   base.z_max = p.w_max.value;
@@ -90,20 +90,6 @@ SensorParams paramsFromProfile(const SensorProfile& p, SensorParams base, double
   base.lambda_normal = p.normal_lambda_per_deg.value;
   base.normal_floor = p.normal_floor.value;
   return base;
-}
-
-double typicalRange(const LaserLog& log, std::size_t max_scans) {
-  const std::size_t n = log.scans.size(), want = std::min(n, std::max<std::size_t>(max_scans, 1));
-  std::vector<float> ranges;
-  for (std::size_t k = 0; k < want; ++k) {
-    const LaserScan& s = log.scans[k * n / want];
-    for (std::size_t i = 0; i < s.ranges.size(); ++i)
-      if (s.isReturn(i) && s.ranges[i] > 0.0f) ranges.push_back(s.ranges[i]);
-  }
-  if (ranges.empty()) return 0.0;
-  const auto mid = ranges.begin() + static_cast<std::ptrdiff_t>(ranges.size() / 2);
-  std::nth_element(ranges.begin(), mid, ranges.end());
-  return *mid;
 }
 
 }  // namespace glassmap::sensor

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <random>
 
+#include "glassmap/core/angles.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
 #include "glassmap/sensor/calibrate.hpp"
@@ -159,24 +160,38 @@ TEST(Calibrate, ProfileCurvesFollowTheirParameters) {
 namespace glassmap {
 namespace {
 
-// A laser whose noise grows with range is taken at the ranges its log reads: one sigma for every
-// beam, hypot(sigma_0, rel r) at the median return, not sigma_0 (which is what it reads at 0 m).
-TEST(ProfileParams, RangeNoiseIsTakenAtTheLogsTypicalRange) {
-  LaserLog log;
-  for (int k = 0; k < 10; ++k) {
-    LaserScan s;
-    s.max_range = 8.0;
-    s.ranges = {1.0f, 2.0f, 5.0f, 6.0f, 7.0f, 8.0f, kNoReturn, 20.0f};  // returns 1, 2, 5, 6, 7
-    log.scans.push_back(s);
-  }
-  EXPECT_DOUBLE_EQ(sensor::typicalRange(log), 5.0);
-  EXPECT_DOUBLE_EQ(sensor::typicalRange(LaserLog{}), 0.0);
+// A laser whose noise grows with range is taken beam by beam: sigma(z) = hypot(sigma_0, rel z),
+// sigma_0 floored; the beam model's density of a reading 4 cm short of its wall is that Gaussian's
+// (far: wide, near: sharp), not one sigma's for every beam.
+TEST(ProfileParams, RangeNoiseGrowsWithTheReading) {
   SensorProfile p;
   p.range_sigma_m.value = 0.005;
   p.range_sigma_rel.value = 0.01;
-  EXPECT_DOUBLE_EQ(sensor::paramsFromProfile(p, {}, 0.001).sigma_hit, 0.005);
-  EXPECT_NEAR(sensor::paramsFromProfile(p, {}, 0.001, sensor::typicalRange(log)).sigma_hit, std::hypot(0.005, 0.05),
-              1e-12);
+  const sensor::SensorParams floored = sensor::paramsFromProfile(p);
+  EXPECT_DOUBLE_EQ(floored.sigma_hit, 0.02);
+  EXPECT_DOUBLE_EQ(floored.sigma_hit_rel, 0.01);
+  const sensor::SensorParams params = sensor::paramsFromProfile(p, {}, 0.001);
+  EXPECT_DOUBLE_EQ(params.sigma_hit, 0.005);
+  EXPECT_NEAR(sensor::sigmaAt(params, 5.0), std::hypot(0.005, 0.05), 1e-15);
+  sensor::SensorParams only_hits = params;
+  only_hits.z_short = only_hits.z_max = 0.0;
+  only_hits.z_rand = 1e-9;
+  for (const double wall : {1.0, 8.0}) {
+    VectorMap one;
+    one.add({wall, -20}, {wall, 20}, Material::Wall);
+    const auto m = sensor::makeSensorModel("beam", one, only_hits);
+    const double z = wall - 0.04, sigma = std::hypot(0.005, 0.01 * z);
+    const double expected = -0.5 * std::pow(0.04 / sigma, 2) - std::log(std::sqrt(2.0 * kPi) * sigma);
+    EXPECT_NEAR(m->logLikelihood(Pose2(), Vec2(1, 0), z, 30.0), expected, 1e-6) << wall;
+    sensor::SensorParams flat = only_hits;
+    flat.sigma_hit_rel = 0.0;
+    const auto f = sensor::makeSensorModel("beam", one, flat);
+    const double with_growth = m->logLikelihood(Pose2(), Vec2(1, 0), z, 30.0);
+    const double without = f->logLikelihood(Pose2(), Vec2(1, 0), z, 30.0);
+    if (wall > 5.0) {
+      EXPECT_GT(with_growth, without + 10.0);  // 4 cm is 0.5 sigma at 8 m, 8 sigma at 0 m
+    }
+  }
 }
 
 TEST(ProfileParams, TheGlassModelTakesTheProfilesLobeAndFloors) {

@@ -45,30 +45,32 @@ TEST(SensorBatch, BatchEqualsPerBeamReferenceUpToRounding) {
     poses.emplace_back(-2 + 0.1 * n01(rng), 0.5 + 0.1 * n01(rng), 0.05 * n01(rng));
   for (int j = 0; j < 100; ++j)  // ... and poses anywhere in the room
     poses.emplace_back(9 * u(rng), 5 * u(rng), kPi * u(rng));
-  for (const std::string& name : sensorModelNames()) {
-    SensorParams p;
-    p.max_range = 15.0;
-    const auto model = makeSensorModel(name, map, p);
-    LaserScan scan;
-    scan.max_range = 15.0;
-    scan.start_angle = -0.75 * kPi;
-    scan.angular_step = 1.5 * kPi / 180;
-    for (int i = 0; i <= 180; ++i) {
-      const double r = i % 11 == 5 ? 15.0 : 0.2 + 14.0 * (0.5 + 0.5 * u(rng));  // max readings too
-      scan.ranges.push_back(static_cast<float>(r));
+  for (const std::string& name : sensorModelNames())
+    for (const double rel : {0.0, 0.01}) {  // one sigma, and sigma growing with the reading
+      SensorParams p;
+      p.max_range = 15.0;
+      p.sigma_hit_rel = rel;
+      const auto model = makeSensorModel(name, map, p);
+      LaserScan scan;
+      scan.max_range = 15.0;
+      scan.start_angle = -0.75 * kPi;
+      scan.angular_step = 1.5 * kPi / 180;
+      for (int i = 0; i <= 180; ++i) {
+        const double r = i % 11 == 5 ? 15.0 : 0.2 + 14.0 * (0.5 + 0.5 * u(rng));  // max readings too
+        scan.ranges.push_back(static_cast<float>(r));
+      }
+      const BeamSet beams = makeBeamSet(scan, 61);
+      std::vector<double> batch(poses.size());
+      model->logLikelihoods(poses, beams, batch.data());
+      for (std::size_t j = 0; j < poses.size(); ++j) {
+        double reference = 0.0;
+        const Eigen::Matrix2d R = poses[j].rotation();
+        for (std::size_t i = 0; i < beams.size(); ++i)
+          reference += model->logLikelihood(poses[j], Vec2(R * beams.dirs[i]), beams.ranges[i], beams.max_range);
+        ASSERT_NEAR(batch[j], reference, 1e-9 * std::abs(reference)) << name << " rel " << rel << " pose " << j;
+        ASSERT_EQ(batch[j], model->logLikelihood(poses[j], beams)) << name << " pose " << j;  // one-pose call
+      }
     }
-    const BeamSet beams = makeBeamSet(scan, 61);
-    std::vector<double> batch(poses.size());
-    model->logLikelihoods(poses, beams, batch.data());
-    for (std::size_t j = 0; j < poses.size(); ++j) {
-      double reference = 0.0;
-      const Eigen::Matrix2d R = poses[j].rotation();
-      for (std::size_t i = 0; i < beams.size(); ++i)
-        reference += model->logLikelihood(poses[j], Vec2(R * beams.dirs[i]), beams.ranges[i], beams.max_range);
-      ASSERT_NEAR(batch[j], reference, 1e-9 * std::abs(reference)) << name << " pose " << j;
-      ASSERT_EQ(batch[j], model->logLikelihood(poses[j], beams)) << name << " pose " << j;  // one-pose call
-    }
-  }
 }
 
 // Beam by beam, the batch call's log-likelihood of a pane hit (weights and mode densities on SIMD
@@ -84,6 +86,7 @@ TEST(SensorBatch, PaneHitsOnLanesWithinRoundingOfTheOneRayPathPerBeam) {
   const RayCaster caster(map);
   SensorParams p;
   p.max_range = 15.0;
+  p.sigma_hit_rel = 0.005;  // each beam's densities with the sigma of its reading
   std::vector<Pose2> poses;
   for (int j = 0; j < 60; ++j) poses.emplace_back(-2 + 0.1 * n01(rng), 0.5 + 0.1 * n01(rng), 0.05 * n01(rng));
   for (int j = 0; j < 60; ++j) poses.emplace_back(9 * u(rng), 5 * u(rng), kPi * u(rng));

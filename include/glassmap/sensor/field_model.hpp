@@ -46,8 +46,10 @@ class DistanceGrid {
   std::size_t stride_ = 0;                     // (tile_ + 1)^2
 };
 
-/// "field": p(z) = z_hit N(dist(end point); 0, sigma) + z_rand / z_max for z < z_max; a max reading
-/// gets the constant mass z_max (it carries no information, as in AMCL). Integrates to 1 over
+/// "field": p(z) = z_hit N(dist(end point); 0, sigma(z)) + z_rand / z_max for z < z_max; a max
+/// reading gets the constant mass z_max (it carries no information, as in AMCL). sigma(z) =
+/// hypot(sigma_hit, sigma_hit_rel z) is taken on a ladder of 16 steps per octave from sigma_hit
+/// (within 2.2%), one table per step. Integrates to 1 over
 /// range for a beam meeting a lone wall at normal incidence, to about 1/cos(theta) at incidence
 /// theta: it is a density over end points, not over ranges.
 class FieldModel final : public SensorModel {
@@ -63,17 +65,22 @@ class FieldModel final : public SensorModel {
 
  private:
   void tabulate(const SensorParams& params);  // weights, sigma and the log-p table
-  /// log(w_hit N(d; 0, sigma) + w_rand / max_range) at distance d: from the table when max_range
-  /// is the one it was built for, else computed.
-  double logHit(double d, double max_range) const;
+  /// The ladder step of a reading z < z_max's sigma (0 when sigma does not grow with range).
+  std::size_t level(double z) const;
+  /// log(w_hit N(d; 0, sigma) + w_rand / max_range) at distance d, sigma that of ladder step
+  /// `level`: from its table when max_range is the one it was built for, else computed.
+  double logHit(double d, double max_range, std::size_t level) const;
 
   VectorMap map_;
   DistanceGrid grid_;
-  double w_hit_ = 0, w_max_ = 0, w_rand_ = 0, sigma_ = 0.05;
+  double w_hit_ = 0, w_max_ = 0, w_rand_ = 0, sigma_ = 0.05, sigma_rel_ = 0.0;
   // log p of a reading against the end point's distance d, tabulated over [0, max_dist] and read
   // linearly: no exp or log per beam. The table's step (max_dist / 4095) keeps its error under
-  // 1e-5 nats per beam at sigma 2 cm, 1 m max_dist (the curvature is at most 1 / sigma^2).
-  std::vector<double> table_;
+  // 1e-5 nats per beam at sigma 2 cm, 1 m max_dist (the curvature is at most 1 / sigma^2). One
+  // table of kTableSize entries per ladder step, sigma of step k: level_sigma_[k].
+  static constexpr std::size_t kTableSize = 4097;
+  static constexpr double kLevelsPerOctave = 16.0;
+  std::vector<double> table_, level_sigma_;
   double table_max_range_ = 0.0, table_inv_step_ = 0.0;
 };
 
@@ -95,16 +102,23 @@ inline double DistanceGrid::distance(const Vec2& p) const {
   return (1 - v) * ((1 - u) * c[0] + u * c[1]) + v * ((1 - u) * n[0] + u * n[1]);
 }
 
-inline double FieldModel::logHit(double d, double max_range) const {
+inline std::size_t FieldModel::level(double z) const {
+  if (!(sigma_rel_ > 0)) return 0;
+  const double steps = kLevelsPerOctave * std::log2(std::hypot(sigma_, sigma_rel_ * z) / sigma_);
+  return std::min(static_cast<std::size_t>(std::lround(std::max(steps, 0.0))), level_sigma_.size() - 1);
+}
+
+inline double FieldModel::logHit(double d, double max_range, std::size_t level) const {
   if (max_range == table_max_range_) {
     // The grid never returns more than max_dist; the last entry repeats it for the read at the end.
+    const double* table = &table_[level * kTableSize];
     const double f = std::min(d, grid_.maxDistance()) * table_inv_step_;
     const auto i = static_cast<std::size_t>(f);
     const double u = f - static_cast<double>(i);
-    return table_[i] + u * (table_[i + 1] - table_[i]);
+    return table[i] + u * (table[i + 1] - table[i]);
   }
-  const double u = d / sigma_;
-  return std::log(w_hit_ * std::exp(-0.5 * u * u) / (std::sqrt(2.0 * kPi) * sigma_) + w_rand_ / max_range);
+  const double sigma = level_sigma_[level], u = d / sigma;
+  return std::log(w_hit_ * std::exp(-0.5 * u * u) / (std::sqrt(2.0 * kPi) * sigma) + w_rand_ / max_range);
 }
 
 }  // namespace glassmap::sensor

@@ -65,9 +65,9 @@ class GlassModel final : public SensorModel {
   /// ray goes on through another pane (t updated), false when it ends (e_refract set if it met a
   /// wall or its last pane, left +inf if it met nothing).
   bool goesOn(Transmitted& t, const RayHit& next, const Vec2& dir, double& e_refract) const;
-  /// p(z) of a beam whose first surface is a pane, from its modes (short_numerator: Mixture::shortNumerator(z)).
-  double fromModes(const GlassModes& m, double z, double max_range) const;
-  double fromModes(const GlassModes& m, double z, double max_range, double short_numerator) const;
+  /// p(z) of a beam whose first surface is a pane, from its modes, with the mixture of its reading
+  /// (mix_.at(z)) and short_numerator = mix.shortNumerator(z).
+  double fromModes(const Mixture& mix, const GlassModes& m, double z, double max_range, double short_numerator) const;
 
   RayCaster caster_;
   /// Per segment, what does not depend on the ray: b - a, its unit direction and length, thickness.

@@ -14,9 +14,21 @@ namespace glassmap::sensor {
 struct Mixture {
   double w_hit = 0, w_short = 0, w_max = 0, w_rand = 0;  ///< weights summing to 1 [-]
   double sigma = 0.05;                                   ///< hit std dev [m]
+  double sigma_rel = 0.0;                                ///< its growth with the reading (sigmaAt) [-]
   double lambda_short = 0.2;                             ///< short-reading rate [1/m]
 
   explicit Mixture(const SensorParams& p);
+
+  /// The mixture of a reading z: sigma = hypot(sigma, sigma_rel z) (itself when sigma_rel is 0).
+  /// The models take every density of a beam, whatever range a mode expects, with the sigma of
+  /// its reading: for the pose that explains the reading the two are within a few sigma, and the
+  /// sigma is the same for every particle (one kernel per beam).
+  Mixture at(double z) const {
+    Mixture m = *this;
+    if (sigma_rel > 0 && std::isfinite(z)) m.sigma = std::hypot(sigma, sigma_rel * z);
+    m.sigma_rel = 0.0;
+    return m;
+  }
 
   /// hitDensity is exactly 0 where ((z - e) / sigma)^2 exceeds this (below 1e-17 of the peak).
   static constexpr double kHitCutoff2 = 80.0;

@@ -3,6 +3,7 @@
 /// picked by name: "beam", "field", "glass" (default) and "glass-paper" (paper section 2.4).
 /// Everything is returned as a natural log-likelihood.
 
+#include <cmath>
 #include <memory>
 #include <span>
 #include <string>
@@ -27,6 +28,8 @@ GlassAs parseGlassAs(std::string_view s);
 struct SensorParams {
   double max_range = 30.0;             ///< sensor maximum range z_max [m] (a log's scans override it)
   double sigma_hit = 0.05;             ///< std dev of a measured range around the expected one, sigma_z [m]
+  double sigma_hit_rel = 0.0;          ///< its growth with the reading z: sigma(z) = hypot(sigma_hit,
+                                       ///< sigma_hit_rel z) per beam (beam, glass and field models) [-]
   double z_hit = 0.85;                 ///< weight of the hit (measurement) component [-]
   double z_short = 0.05;               ///< weight of unexpected short readings (people, clutter) [-]
   double z_max = 0.05;                 ///< weight of max-range readings (missed echoes) [-]
@@ -59,20 +62,21 @@ struct BeamSet {
   std::size_t size() const { return ranges.size(); }
 };
 
+/// The range sigma of a reading z [m] (sigma_hit, grown with range by sigma_hit_rel).
+inline double sigmaAt(const SensorParams& p, double z) {
+  return p.sigma_hit_rel > 0 ? std::hypot(p.sigma_hit, p.sigma_hit_rel * z) : p.sigma_hit;
+}
+
 /// The models' parameters from a sensor profile (sensor/calibrate.hpp): the glass lobe (peak,
-/// sigma, floor), the reflection rate and floor, the mixture weights and lambda_short, and
-/// sigma_hit = max(the profile's range sigma at `typical_range_m`, min_sigma_hit): the models
-/// take one sigma for every beam, so a laser whose noise grows with range (hypot(sigma_0,
-/// rel r)) is taken at the ranges it reads (typicalRange of the log), not at 0 m; and a floorplan
-/// is never drawn to the millimetre, a likelihood sharper than the map is true to starves the
-/// particle filter.
+/// sigma, floor), the reflection rate and floor, the mixture weights and lambda_short, and the
+/// range noise beam by beam: sigma_hit = max(the profile's constant part sigma_0, min_sigma_hit),
+/// sigma_hit_rel = its growth with range (a laser whose noise grows with range, hypot(sigma_0,
+/// rel r), is wide at the far beams and sharp at the near ones, as it reads). The floor: a
+/// floorplan is never drawn to the millimetre, and a likelihood sharper than the map is true to
+/// starves the particle filter.
 inline constexpr double kMinProfileSigmaHit = 0.02;  ///< paramsFromProfile's default floor [m]
 SensorParams paramsFromProfile(const SensorProfile& profile, SensorParams base = {},
-                               double min_sigma_hit = kMinProfileSigmaHit, double typical_range_m = 0.0);
-
-/// The median range of the returns (finite, below max range) of up to `max_scans` scans spread
-/// evenly over the log's scans in memory [m]; 0 when there is none.
-double typicalRange(const LaserLog& log, std::size_t max_scans = 200);
+                               double min_sigma_hit = kMinProfileSigmaHit);
 
 /// Picks `count` beams spread evenly over the scan (all when count <= 0 or >= the scan's size).
 /// A no-return reading (kNoReturn) becomes a max reading.
