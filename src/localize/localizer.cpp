@@ -47,6 +47,8 @@ LocalizeResult localizeLog(const LaserLog& log, sensor::SensorModel& model, cons
   Pose2 odom_at_update = laserOdom(log.scans.front());
   std::vector<std::uint8_t> sure;  // per scan: the filter converged (one tight mode holds the mass)
   sure.reserve(log.scans.size());
+  std::size_t jumps = 0;    // relocalizations so far
+  double since_jump = 0.0;  // odometry travel since the last one [m]
   Pose2 est_at_update;
   result.trajectory.reserve(log.scans.size());
   for (std::size_t k = 0; k < log.scans.size(); ++k) {
@@ -100,8 +102,15 @@ LocalizeResult localizeLog(const LaserLog& log, sensor::SensorModel& model, cons
     result.particles.push_back(filter.size());
     result.corrected.push_back(updated ? 1 : 0);
     result.relocalized.push_back(filter.relocalizations());
-    // Between updates the filter's state stands as it was at the last one.
-    sure.push_back(filter.converged() ? 1 : 0);
+    // Between updates the filter's state stands as it was at the last one. After a jump of the
+    // estimate to another place, that place has only the scans since its probe began for it: it
+    // is not yet an answer until the robot has travelled as far as a global start needs.
+    if (k > 0) since_jump += (odom.t - laserOdom(log.scans[k - 1]).t).norm();
+    if (filter.relocalizations() != jumps) {
+      jumps = filter.relocalizations();
+      since_jump = 0.0;
+    }
+    sure.push_back(filter.converged() && (jumps == 0 || since_jump >= options.converged_after_jump) ? 1 : 0);
   }
   result.relocalizations = filter.relocalizations();
   result.probes = filter.probes();

@@ -185,6 +185,30 @@ TEST(LocalizeE2E, KidnapsFarAlongThePaperCorridorRecover) {
   EXPECT_GE(recovered, 6) << "of " << runs;  // 7 of 8; e982322 (uniform probes): 3
 }
 
+TEST(LocalizeE2E, APlaceTheEstimateJumpedToIsNoAnswerUntilTheRobotMovedOn) {
+  // Kidnapped 2 m along the corridor at 15 s: the estimate jumps to the robot's new place a few
+  // seconds later. A run that ends soon after says converged: false (the new place has only the
+  // scans since its probe for it, LocalizeOptions::converged_after_jump); one that goes on says
+  // converged, and right.
+  for (const double duration : {24.0, 60.0}) {
+    RunSpec k = spec("paper-corridor", 1);
+    k.duration = duration;
+    k.kidnap.time = 15.0;
+    k.kidnap.along = 2.0;
+    const RunResult r = runScene(k);
+    ASSERT_GE(r.run.relocalizations, 1u) << duration;
+    const auto& e = r.errors;
+    std::printf("  %.0f s: converged %d at %.1f s, final error %.3f m\n", duration, r.run.converged,
+                r.run.converged_at, e.position_errors.back());
+    if (duration < 30.0) {
+      EXPECT_FALSE(r.run.converged);
+    } else {
+      EXPECT_TRUE(r.run.converged);
+      EXPECT_LT(e.position_errors.back(), 0.2);
+    }
+  }
+}
+
 TEST(LocalizeE2E, GlobalLocalizationConvergesOnTheOfficeFloor) {
   int converged = 0;
   for (auto seed : kSeeds) {

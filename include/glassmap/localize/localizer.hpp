@@ -27,6 +27,9 @@ struct LocalizeOptions {
   double converged_min_travel = 2.0;        ///< converged at the end only after staying so over this
                                             ///< much travel [m] (a cloud that collapsed on the last
                                             ///< scans is not yet an answer)
+  double converged_after_jump = 5.0;        ///< ... and after a jump of the estimate to another
+                                            ///< hypothesis only once the robot travelled this far
+                                            ///< since [m] (a global start's anneal_min_travel)
 };
 
 /// What a run did.
