@@ -3,7 +3,7 @@
 with each scanner profile (`glassmap simulate --sensor NAME|random:SEED`), then localized against
 the true floorplan from the first true pose with several option sets ("settings"); ATE RMSE from
 `glassmap eval traj`. Prints per setting the mean / worst ATE over the runs and a Markdown table
-of the chosen settings per profile; writes every run to OUT/results.csv.
+of the chosen settings per profile; writes every run to OUT/results.csv and a chart OUT/ate.png.
 
 Settings are "name=extra localize arguments", separated by ';'. "default" (no extra argument) is
 always run. "oracle" is a setting made per run: the simulator's own numbers (meta.json) as a
@@ -154,6 +154,39 @@ def main():
                 v = [r["rmse"] for r in rows if r["model"] == m and r["sensor"] == se and r["setting"] == name]
                 cells.append(f"{sum(v) / len(v):.4f} / {max(v):.3f}")
             print(f"| {m} | {se} | " + " | ".join(cells) + " |")
+    chart(rows, models, sensors, scenes, [n for n, _ in settings], a.out)
+
+
+def chart(rows, models, sensors, scenes, names, out):
+    """OUT/ate.png: ATE RMSE per laser and scene, a bar per setting, a panel per model."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("matplotlib missing: no chart", file=sys.stderr)
+        return
+    fig, axes = plt.subplots(len(models), 1, figsize=(max(8, 0.5 * len(sensors) * len(scenes)), 3.2 * len(models)),
+                             squeeze=False)
+    groups = [(se, sc) for se in sensors for sc in scenes]
+    width = 0.8 / max(len(names), 1)
+    for ax, m in zip(axes[:, 0], models):
+        for j, name in enumerate(names):
+            ys = []
+            for se, sc in groups:
+                v = [r["rmse"] for r in rows if r["model"] == m and r["sensor"] == se and r["scene"] == sc
+                     and r["setting"] == name]
+                ys.append(1000 * sum(v) / len(v) if v else 0.0)
+            ax.bar([i + j * width for i in range(len(groups))], ys, width, label=name)
+        ax.axhline(25, color="k", lw=0.8, ls="--")  # the issue's 25 mm
+        ax.set_xticks([i + 0.4 - width / 2 for i in range(len(groups))])
+        ax.set_xticklabels([f"{se}\n{sc}" for se, sc in groups], rotation=90, fontsize=6)
+        ax.set_ylabel("ATE RMSE [mm]")
+        ax.set_title(f"model {m}")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "ate.png"), dpi=110)
+    print(f"chart: {os.path.join(out, 'ate.png')}", file=sys.stderr)
 
 
 if __name__ == "__main__":
