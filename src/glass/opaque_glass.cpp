@@ -3,17 +3,64 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <boost/pending/disjoint_sets.hpp>
 
 #include "glass_tiles.hpp"
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 
 namespace glassmap::glass {
+
+namespace {
+
+// The pane of each glass cell (cells: ascending, slots: their index): a representative slot of
+// the glass cells connected to it (8-neighbours) whose normals are at most one bin apart.
+std::vector<std::size_t> paneOf(const CellEvidence& e, const std::vector<std::size_t>& cells,
+                                const detail::CandidateIndex& slots) {
+  boost::disjoint_sets_with_storage<> sets(cells.size());
+  for (std::size_t c = 0; c < cells.size(); ++c) sets.make_set(c);
+  const auto bin_gap = [&](std::size_t a, std::size_t b) {
+    const int d = std::abs(glassBin(e.label[cells[a]]) - glassBin(e.label[cells[b]]));
+    return std::min(d, e.bins - d);
+  };
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const grid::CellIndex at = e.geometry.cellOf(cells[c]);
+    constexpr int kForward[4][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}};  // each neighbour pair once
+    for (const auto& d : kForward) {
+      const std::int64_t n = slots.find(at.x + d[0], at.y + d[1]);
+      if (n >= 0 && bin_gap(c, static_cast<std::size_t>(n)) <= 1) sets.union_set(c, static_cast<std::size_t>(n));
+    }
+  }
+  std::vector<std::size_t> pane(cells.size());
+  for (std::size_t c = 0; c < cells.size(); ++c) pane[c] = sets.find_set(c);
+  return pane;
+}
+
+// The laser's spurious readings, from the scans themselves: a reading between two neighbours that
+// lie on one surface (ranges within what a flat surface at that spacing allows) that returned
+// nothing or read well beyond them (max(beyond, 5 sigma)): a dropout or a random reading, what a
+// wall lets "through".
+void countSpurious(const LaserScan& scan, const OpaqueGlassOptions& o, std::uint64_t& surface,
+                   std::uint64_t& spurious) {
+  const double step = std::abs(scan.angular_step);
+  for (std::size_t i = 1; i + 1 < scan.ranges.size(); ++i) {
+    if (!scan.isReturn(i - 1) || !scan.isReturn(i + 1)) continue;
+    const double a = scan.ranges[i - 1], c = scan.ranges[i + 1], r = 0.5 * (a + c);
+    if (r < 0.05 || std::abs(c - a) > 6.0 * r * step) continue;  // near-flat pairs only
+    ++surface;
+    const double beyond = std::max(o.beyond, 5.0 * std::hypot(o.range_sigma, o.range_sigma_rel * r));
+    if (!scan.isReturn(i) || scan.ranges[i] > r + beyond) ++spurious;
+  }
+}
+
+}  // namespace
 
 OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions& beams, const OpaqueGlassOptions& o,
                                     CellEvidence& e) {
@@ -37,6 +84,7 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   // the scans were shared out.
   struct Tally {
     std::vector<std::uint32_t> pass, stop, own;
+    std::uint64_t surface = 0, spurious = 0;  // in-scan: readings between two on one surface, and wrong ones
   };
   tbb::enumerable_thread_specific<Tally> tallies([&] {
     return Tally{std::vector<std::uint32_t>(cells.size(), 0), std::vector<std::uint32_t>(cells.size(), 0),
@@ -45,6 +93,7 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   const detail::GlassTiles tiles(e);
   const detail::CandidateIndex slots(g, cells);  // glass cell -> its slot
   grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& t) {
+    countSpurious(scan, o, t.surface, t.spurious);
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
       if (!tiles.near(beam.from, beam.to)) return;
       // A beam that went through a pane may have been folded by it: beyond that pane, where its
@@ -77,6 +126,10 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
     });
   });
   std::vector<std::uint32_t> pass(cells.size(), 0), stop(cells.size(), 0), own(cells.size(), 0);
+  for (const Tally& t : tallies) {
+    stats.surface_readings += t.surface;
+    stats.spurious_readings += t.spurious;
+  }
   for (const Tally& t : tallies)
     for (std::size_t c = 0; c < cells.size(); ++c) {
       pass[c] += t.pass[c];
@@ -84,14 +137,52 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
       own[c] += t.own[c];
     }
 
+  // A pane lets light through somewhere along it: cells too thinly seen to decide alone (the MRF
+  // carries a label along a line of cells few beams reached) take the verdict of their pane, its
+  // evidence pooled.
+  const std::vector<std::size_t> pane = paneOf(e, cells, slots);
+  struct Pooled {
+    double pass = 0, stop = 0, own = 0;
+  };
+  std::vector<Pooled> pooled(cells.size());
   for (std::size_t c = 0; c < cells.size(); ++c) {
-    const double crossings = static_cast<double>(pass[c] + stop[c]);
+    Pooled& p = pooled[pane[c]];
+    p.pass += pass[c];
+    p.stop += stop[c];
+    p.own += own[c];
+  }
+  // The verdict on evidence (passes, stops, returns in the cells): nullopt when too little.
+  const auto opaque = [&](double p, double s, double returns) -> std::optional<bool> {
     // Returned by many beams and passed by none that came to it directly: nothing says it lets
     // light through (glass seen only through other glass, and the far walls behind it).
-    const bool never_passed = pass[c] == 0 && own[c] >= static_cast<std::uint32_t>(o.min_unpassed_returns);
-    if (crossings < o.min_crossings && !never_passed) continue;
-    ++stats.decided;
-    if (!never_passed && static_cast<double>(pass[c]) >= o.min_transmission * crossings) continue;
+    if (p == 0 && returns >= o.min_unpassed_returns) return true;
+    if (p + s < o.min_crossings) return std::nullopt;
+    return p < o.min_transmission * (p + s);
+  };
+  // A pane's pooled evidence first: many beams returned from it and its passes are no more than
+  // the laser's spurious readings make at a wall (no-return and random readings: their share among
+  // readings between two of one surface, countSpurious; a binomial upper bound at 3 sigma) says
+  // nothing lets light through, whatever the few crossings of one cell say (a crossing count that
+  // ignores the returns takes a dropout behind a wall for a pass). Then the cell's own evidence,
+  // then, for a cell too thinly seen, its pane's crossings pooled.
+  const auto spuriousOnly = [&](const Pooled& p) {
+    const double spurious = stats.spuriousShare() * (p.pass + p.own);
+    return p.own >= o.min_unpassed_returns && p.pass <= spurious + 3.0 * std::sqrt(spurious);
+  };
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const Pooled& of_pane = pooled[pane[c]];
+    std::optional<bool> verdict;
+    if (spuriousOnly(of_pane)) {
+      verdict = true;
+      ++stats.decided_by_pane;
+    } else if ((verdict = opaque(pass[c], stop[c], own[c]))) {
+      ++stats.decided;
+    } else {
+      verdict = opaque(of_pane.pass, of_pane.stop, of_pane.own);
+      if (!verdict) continue;
+      ++stats.decided_by_pane;
+    }
+    if (!*verdict) continue;
     const std::size_t i = cells[c];
     const std::int64_t id = e.candidate(static_cast<std::uint32_t>(i));
     std::uint8_t best = kEmpty;

@@ -11,9 +11,15 @@
 /// at least `beyond` (or a no-return reading) is a pass; less is a stop. A glass cell with at least
 /// min_crossings such crossings of which fewer than min_transmission passed is opaque; so is one that
 /// at least min_unpassed_returns beams returned from and none passed (glass seen only through other
-/// glass: the far walls of the rooms behind a glass corridor).
+/// glass: the far walls of the rooms behind a glass corridor). A cell too thinly seen for either
+/// takes the verdict of its pane: the glass cells connected to it whose normals are at most one
+/// bin apart, their crossings and returns pooled (a pane lets light through somewhere along it);
+/// a pane that many beams returned from is passed by none when its passes are no more than the
+/// laser's spurious readings explain (no-return and far readings at a surface: their share among
+/// the readings between two neighbours on one surface, measured in the log's scans).
 
 #include <cstddef>
+#include <cstdint>
 
 #include "glassmap/glass/evidence.hpp"
 #include "glassmap/grid/scan_integration.hpp"
@@ -32,9 +38,17 @@ struct OpaqueGlassOptions {
 
 /// What the test did.
 struct OpaqueGlassStats {
-  std::size_t glass_cells = 0;  ///< glass cells tested
-  std::size_t decided = 0;      ///< ...with at least min_crossings crossings
-  std::size_t relabelled = 0;   ///< ...found opaque and relabelled
+  std::size_t glass_cells = 0;          ///< glass cells tested
+  std::size_t decided = 0;              ///< ...decided on their own evidence
+  std::size_t decided_by_pane = 0;      ///< ...too thinly seen, decided on their pane's (connected glass
+                                        ///< cells with normals at most one bin apart) pooled evidence
+  std::size_t relabelled = 0;           ///< ...found opaque and relabelled
+  std::uint64_t surface_readings = 0;   ///< readings between two neighbours on one surface
+  std::uint64_t spurious_readings = 0;  ///< ...that read nothing or well beyond them
+  /// Their share: what a wall lets "through" [-].
+  double spuriousShare() const {
+    return surface_readings ? static_cast<double>(spurious_readings) / static_cast<double>(surface_readings) : 0.0;
+  }
 };
 
 /// Relabels the opaque glass cells of `evidence` (see above) by their least-cost non-glass label
