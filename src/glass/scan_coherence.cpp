@@ -8,8 +8,13 @@
 namespace glassmap::glass::sparse {
 
 std::vector<ScanCoherence> scanCoherence(std::vector<NearNormalBeam>& beams, std::size_t runs, double bin_width) {
+  // A total order (the threads that collected the beams hand them over in any order): the sums
+  // below, and so the figures, do not depend on it.
   std::sort(beams.begin(), beams.end(), [](const NearNormalBeam& a, const NearNormalBeam& b) {
-    return a.run != b.run ? a.run < b.run : a.scan < b.scan;
+    if (a.run != b.run) return a.run < b.run;
+    if (a.scan != b.scan) return a.scan < b.scan;
+    if (a.incidence != b.incidence) return a.incidence < b.incidence;
+    return a.returned < b.returned;
   });
   std::vector<ScanCoherence> out(runs);
   std::size_t begin = 0;
