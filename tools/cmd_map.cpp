@@ -136,10 +136,10 @@ void run(MapArgs& args) {
     if (options.sparse_panes)
       std::printf(
           "%-22s %zu found, %.1f m (%zu runs of %zu weak returns tested; rejected: %zu chance, %zu opaque, "
-          "%zu through another pane)\n",
+          "%zu transient, %zu through another pane)\n",
           "sparse panes", result.sparse.panes, result.sparse.metres, result.sparse.runs_tested,
           result.sparse.weak_returns, result.sparse.rejected_chance, result.sparse.rejected_opaque,
-          result.sparse.rejected_through);
+          result.sparse.rejected_transient, result.sparse.rejected_through);
     if (options.opaque_glass)
       std::printf("%-22s %zu of %zu glass cells relabelled (the beams crossing them stop just behind)\n",
                   "opaque glass", result.opaque.relabelled, result.opaque.glass_cells);
@@ -201,12 +201,14 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_flag("!--keep-unfitted-glass", args->options.prune_unfitted_glass,
                 "keep glass cells that no fitted glass segment explains: by default they take their best\n"
                 "non-glass label (people walking by leave arcs of cells that each look like glass)");
-  cmd->add_flag("--sparse-panes", args->options.sparse_panes,
-                "also look for panes too faint for the cell classifiers (a laser whose glass returns rarely,\n"
-                "only near the normal): returns from cells most beams cross, each along a beam nearly normal to\n"
-                "the line they form, are grouped by line votes; a run along a line is drawn as glass when chance\n"
-                "does not explain it (a contrario), the beams meeting it mostly pass it, and its returns did not\n"
-                "come through another pane. Off by default: people crossing in front of the robot look alike");
+  cmd->add_flag("--sparse-panes,!--no-sparse-panes", args->options.sparse_panes,
+                "look for panes too faint for the cell classifiers (a laser whose glass returns rarely, only\n"
+                "near the normal; on by default, --no-sparse-panes skips it): returns from cells most beams\n"
+                "cross, each along a beam nearly normal to the line they form, are grouped by line votes; a run\n"
+                "along a line is drawn as glass when chance does not explain it (a contrario), the beams meeting\n"
+                "it mostly pass it, its near-normal beams do not return scan by scan (people walking by answer\n"
+                "every beam while there, a pane each beam on its own), and its returns did not come through\n"
+                "another pane");
   cmd->add_flag("!--keep-opaque-glass", args->options.opaque_glass,
                 "keep glass cells the beams do not pass: by default, a glass cell whose crossing beams mostly\n"
                 "stop within max(0.3 m, 5 range sigma) behind its pane (the front of a wall seen at grazing\n"

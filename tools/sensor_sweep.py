@@ -5,18 +5,21 @@ on glass-free floors, the MRF against the direct classifier, and the calibration
 range noise and lobe against the simulated numbers) and writes OUT/results.json.
 
 Lasers (--profiles): the five named scanner profiles of `glassmap simulate --sensor`, `random:SEED`
-profiles, and the custom lasers of CUSTOM below (`noisy-fine`: the finer, noisier laser of issue 13:
+profiles, `scene` (the scene's own laser: no --sensor), and the custom lasers of CUSTOM below (`noisy-fine`: the finer, noisier laser of issue 13:
 0.25 deg beams, 3 cm noise, 3% max readings, a 4 deg / 0.55 lobe).
 Scenes (positional): bundled scene names (maps/<name>), `glass-room@ANGLE` (the glass meeting
 room of maps/glass-room turned ANGLE degrees, drawn by maps/make_floorplans.py), or scene files.
 Modes (--modes): default (`glassmap map` as is: calibrated, MRF), direct (`--method direct`),
 uncalibrated (`--no-calibrate`), oracle (`--sensor truth.yaml --profile-lobe`: the simulated laser's
 own numbers), raw (the default without the phantom test and the pane fit of the cells), sparse
-(`--sparse-panes`: the search for panes too faint for the classifiers), direct-sparse (both),
+(`--sparse-panes`: the search for panes too faint for the classifiers, on by default since it rejects
+people walking by), no-sparse (`--no-sparse-panes`: the default without it), direct-sparse (both),
 mrf-w1 / mrf-w4 (the default with `--mrf-weight 1` / `4`: the MRF weight before stop 28, and a
 stronger one).
 
-Usage: tools/sensor_sweep.py [--build build] [--seed 1] [--rate 10] [--out out/sensor_sweep]
+With --people D every log is simulated with D people per 100 m^2 walking (`simulate --people`).
+
+Usage: tools/sensor_sweep.py [--build build] [--seed 1] [--rate 10] [--people 0] [--out out/sensor_sweep]
          [--profiles a,b] [--modes default,direct] [-j 2] [scene ...]
 """
 import argparse
@@ -36,7 +39,7 @@ MODES = ["default", "direct", "uncalibrated", "oracle"]
 MODE_ARGS = {"default": [], "direct": ["--method", "direct"], "uncalibrated": ["--no-calibrate"],
              "oracle": ["--profile-lobe"], "lobe": ["--profile-lobe"], "raw": ["--keep-phantoms", "--keep-unfitted-glass"],
              "direct-raw": ["--method", "direct", "--keep-phantoms", "--keep-unfitted-glass"],
-             "sparse": ["--sparse-panes"], "mrf-w1": ["--mrf-weight", "1"], "mrf-w4": ["--mrf-weight", "4"], "direct-sparse": ["--method", "direct", "--sparse-panes"]}
+             "sparse": ["--sparse-panes"], "no-sparse": ["--no-sparse-panes"], "mrf-w1": ["--mrf-weight", "1"], "mrf-w4": ["--mrf-weight", "4"], "direct-sparse": ["--method", "direct", "--sparse-panes"]}
 # Lasers that are no named profile: scene keys laid over the scene's laser and glass.
 CUSTOM = {
     "noisy-fine": {"laser": "{preset: hokuyo-utm30lx, rate: 10, resolution_deg: 0.25, range_sigma: 0.03, "
@@ -111,10 +114,10 @@ def one_case(gm, profile, scene, a):
     base = os.path.join(a.out, profile.replace(":", "-"), scene)
     sim = os.path.join(base, "sim")
     yaml = scene_file(scene, a.out)
-    sim_args = ["--seed", str(a.seed), "--rate", str(a.rate), "-q"]
+    sim_args = ["--seed", str(a.seed), "--rate", str(a.rate), "-q"] + (["--people", str(a.people)] if a.people else [])
     if profile in CUSTOM:
         yaml = custom_scene(yaml, profile, os.path.join(base, "scene"))
-    else:
+    elif profile != "scene":
         sim_args += ["--sensor", profile]
     run([gm, "simulate", yaml, "-o", sim] + sim_args)
     meta = json.load(open(os.path.join(sim, "meta.json")))
@@ -154,6 +157,7 @@ def main():
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--rate", type=float, default=10.0, help="scan rate [Hz] (the bundled scenes use 10)")
+    ap.add_argument("--people", type=float, default=0.0, help="people walking per 100 m^2 (0: the scene's own)")
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "sensor_sweep"))
     ap.add_argument("--profiles", default=",".join(PROFILES))
     ap.add_argument("--modes", default=",".join(MODES))

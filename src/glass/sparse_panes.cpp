@@ -9,11 +9,14 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <boost/math/distributions/normal.hpp>
 #include <boost/math/special_functions/beta.hpp>
 
 #include "glassmap/grid/angle_histograms.hpp"
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
+#include "line_votes.hpp"
+#include "scan_coherence.hpp"
 #include "weak_returns.hpp"
 
 namespace glassmap::glass {
@@ -21,17 +24,11 @@ namespace {
 
 using sparse::angleDiff;
 using sparse::kAngleBins;
+using sparse::Line;
+using sparse::seedLines;
 using sparse::WeakReturn;
 using sparse::WeakReturns;
 using sparse::wrapPi;
-
-// The line n . p = rho, n = (cos angle, sin angle), angle in [0, pi).
-struct Line {
-  double angle = 0.0;
-  double rho = 0.0;
-  Vec2 normal() const { return {std::cos(angle), std::sin(angle)}; }
-  Vec2 tangent() const { return {-std::sin(angle), std::cos(angle)}; }
-};
 
 // A run of weak returns along a line, from s0 to s1 along its tangent.
 struct Run {
@@ -40,56 +37,8 @@ struct Run {
   std::vector<std::size_t> returns;
   double log10_nfa = 0.0;     // expected false alarms of a run like it, log10
   double transmission = 0.0;  // share of the beams meeting it that passed
+  double coherence_z = 0.0;   // z score of the within-scan correlation of its near-normal beams
   Vec2 end(double s) const { return line.rho * line.normal() + s * line.tangent(); }
-};
-
-// Line votes: (1-degree angle bin, offset bin) per weak return, the angle axis padded by `pad` bins
-// on both sides with the wrapped votes (angle + pi is the same line with the offset negated), so
-// that a window around any angle sums every vote within it.
-class Votes {
- public:
-  Votes(double rho_max, double rho_step, int pad)
-      : step_(rho_step),
-        pad_(pad),
-        half_(static_cast<int>(std::ceil(rho_max / rho_step))),
-        rows_(kAngleBins + 2 * pad),
-        cols_(2 * half_ + 1),
-        sum_(static_cast<std::size_t>(rows_ + 1) * (cols_ + 1), 0) {
-    count_.assign(static_cast<std::size_t>(rows_) * cols_, 0);
-  }
-  void add(double angle, double rho) {
-    const int b = sparse::angleBinOf(angle);
-    put(b + pad_, rho);
-    if (b < pad_) put(b + kAngleBins + pad_, -rho);
-    if (b >= kAngleBins - pad_) put(b - kAngleBins + pad_, -rho);
-  }
-  // Summed-area table of the counts.
-  void integrate() {
-    for (int r = 0; r < rows_; ++r)
-      for (int c = 0; c < cols_; ++c)
-        sum_[idx(r + 1, c + 1)] = count_[static_cast<std::size_t>(r) * cols_ + c] + sum_[idx(r, c + 1)] +
-                                  sum_[idx(r + 1, c)] - sum_[idx(r, c)];
-  }
-  // Votes within +-wa angle bins and +-wr offset bins of (row, col).
-  std::int64_t window(int row, int col, int wa, int wr) const {
-    const int r0 = std::max(0, row - wa), r1 = std::min(rows_, row + wa + 1);
-    const int c0 = std::max(0, col - wr), c1 = std::min(cols_, col + wr + 1);
-    return sum_[idx(r1, c1)] - sum_[idx(r0, c1)] - sum_[idx(r1, c0)] + sum_[idx(r0, c0)];
-  }
-  int rows() const { return rows_; }
-  int cols() const { return cols_; }
-  Line line(int row, int col) const { return {(row - pad_ + 0.5) * kPi / kAngleBins, (col - half_) * step_}; }
-
- private:
-  void put(int row, double rho) {
-    const int c = static_cast<int>(std::lround(rho / step_)) + half_;
-    if (c >= 0 && c < cols_) ++count_[static_cast<std::size_t>(row) * cols_ + c];
-  }
-  std::size_t idx(int r, int c) const { return static_cast<std::size_t>(r) * (cols_ + 1) + c; }
-  double step_;
-  int pad_, half_, rows_, cols_;
-  std::vector<std::int64_t> sum_;
-  std::vector<std::int32_t> count_;
 };
 
 // Unused returns compatible with `line` (angle within tol_a, offset within tol_r).
@@ -186,41 +135,72 @@ double log10BinomialTail(int k, int n, double p) {
 }
 
 // Per run: returned beams that pass the run and end at least `beyond` past it, and beams that
-// return on it (within `band`) or just behind it.
+// return on it (within `band`) or just behind it; and those of them within tol_a of its normal
+// that returned on it or passed it (no echo counts as passing), with their scans.
 template <class Beyond>
 void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const std::vector<Run>& runs, double band,
-                    Beyond&& beyond_at, std::vector<std::uint64_t>& pass, std::vector<std::uint64_t>& hit) {
+                    double tol_a, Beyond&& beyond_at, std::vector<std::uint64_t>& pass, std::vector<std::uint64_t>& hit,
+                    std::vector<sparse::NearNormalBeam>& near) {
   struct Tally {
     std::vector<std::uint64_t> pass, hit;
+    std::vector<sparse::NearNormalBeam> near;
   };
   tbb::enumerable_thread_specific<Tally> tallies([&] {
-    return Tally{std::vector<std::uint64_t>(runs.size(), 0), std::vector<std::uint64_t>(runs.size(), 0)};
+    return Tally{std::vector<std::uint64_t>(runs.size(), 0), std::vector<std::uint64_t>(runs.size(), 0), {}};
   });
-  grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& t) {
+  grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t index, Tally& t) {
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (!beam.hit) return;
       const double beyond = beyond_at(beam.range);
+      const double direction = wrapPi(beam.angle);
       for (std::size_t r = 0; r < runs.size(); ++r) {
         const Vec2 n = runs[r].line.normal(), tg = runs[r].line.tangent();
         const double f = n.dot(beam.from) - runs[r].line.rho, g = n.dot(beam.to) - runs[r].line.rho;
+        const double incidence = std::abs(angleDiff(direction, runs[r].line.angle));
+        auto nearNormal = [&](bool returned) {
+          if (incidence <= tol_a)
+            t.near.push_back({static_cast<std::uint32_t>(r), static_cast<std::uint32_t>(index),
+                              static_cast<float>(incidence), returned});
+        };
+        if (!beam.hit) {
+          // No echo within the cap (nothing in range behind the run, or a dropout): the run did not
+          // answer it. Only the near-normal tally counts it; leaving it out would make the scans
+          // whose passing beams find nothing in range look as if every near-normal beam returned.
+          if ((f > 0) != (g > 0)) {
+            const double along = tg.dot(beam.from + (f / (f - g)) * (beam.to - beam.from));
+            if (along >= runs[r].s0 && along <= runs[r].s1) nearNormal(false);
+          }
+          continue;
+        }
         if (std::abs(g) <= band) {
           const double along = tg.dot(beam.to);
-          if (along >= runs[r].s0 && along <= runs[r].s1 && std::abs(f) > band) ++t.hit[r];
+          if (along >= runs[r].s0 && along <= runs[r].s1 && std::abs(f) > band) {
+            ++t.hit[r];
+            nearNormal(true);
+          }
         } else if ((f > 0) != (g > 0)) {
           // Crossed: a pass when it ends well beyond, else it stopped just behind (a wall's face).
           const double along = tg.dot(beam.from + (f / (f - g)) * (beam.to - beam.from));
-          if (along >= runs[r].s0 && along <= runs[r].s1) ++(std::abs(g) >= beyond ? t.pass[r] : t.hit[r]);
+          if (along < runs[r].s0 || along > runs[r].s1) continue;
+          if (std::abs(g) >= beyond) {
+            ++t.pass[r];
+            nearNormal(false);
+          } else {
+            ++t.hit[r];
+          }
         }
       }
     });
   });
   pass.assign(runs.size(), 0);
   hit.assign(runs.size(), 0);
-  for (const Tally& t : tallies)
+  near.clear();
+  for (const Tally& t : tallies) {
     for (std::size_t r = 0; r < runs.size(); ++r) {
       pass[r] += t.pass[r];
       hit[r] += t.hit[r];
     }
+    near.insert(near.end(), t.near.begin(), t.near.end());
+  }
 }
 
 // Calls visit(linear cell index) for the cells of a run's line, half a cell past either end.
@@ -281,40 +261,6 @@ double localBackground(const WeakReturns& weak, const CellEvidence& e, const Run
       holding += weak.compatible(static_cast<std::uint32_t>(i), run.line.angle, tol_a);
     }
   return seen > 0.0 ? holding / seen : 0.0;
-}
-
-// Seed lines: local maxima of the votes summed over +-pad angle bins and +-wr offset bins, with at
-// least min_votes, strongest first. Offsets are voted relative to the grid's centre.
-std::vector<Line> seedLines(const std::vector<WeakReturn>& weak, const grid::GridGeometry& g, int pad, int wr,
-                            int min_votes) {
-  const Vec2 centre = 0.5 * (g.origin + g.maxCorner());
-  Votes votes(0.5 * (g.maxCorner() - g.origin).norm() + 1.0, g.resolution, pad);
-  for (const WeakReturn& r : weak) votes.add(r.normal, Vec2(std::cos(r.normal), std::sin(r.normal)).dot(r.at - centre));
-  votes.integrate();
-  struct Peak {
-    std::int64_t votes;
-    int row, col;
-  };
-  std::vector<Peak> peaks;
-  for (int row = pad; row < pad + kAngleBins; ++row)
-    for (int col = 0; col < votes.cols(); ++col) {
-      const std::int64_t v = votes.window(row, col, pad, wr);
-      if (v < min_votes) continue;
-      bool maximum = true;
-      for (int dr = -1; dr <= 1 && maximum; ++dr)
-        for (int dc = -1; dc <= 1 && maximum; ++dc)
-          if ((dr || dc) && row + dr >= 0 && row + dr < votes.rows() && col + dc >= 0 && col + dc < votes.cols())
-            maximum = votes.window(row + dr, col + dc, pad, wr) <= v;
-      if (maximum) peaks.push_back({v, row, col});
-    }
-  std::stable_sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.votes > b.votes; });
-  std::vector<Line> lines;
-  for (const Peak& peak : peaks) {
-    Line line = votes.line(peak.row, peak.col);
-    line.rho += line.normal().dot(centre);
-    lines.push_back(line);
-  }
-  return lines;
 }
 
 }  // namespace
@@ -379,8 +325,14 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
 
   // Glass is crossed: most beams that meet the run pass it and end well beyond.
   std::vector<std::uint64_t> pass, hit;
+  std::vector<sparse::NearNormalBeam> near;
   countCrossings(
-      log, beams, runs, tol_r, [&](double range) { return std::max(o.beyond, 5.0 * sigmaAt(range)); }, pass, hit);
+      log, beams, runs, tol_r, tol_a, [&](double range) { return std::max(o.beyond, 5.0 * sigmaAt(range)); }, pass, hit,
+      near);
+  const std::vector<sparse::ScanCoherence> coherence =
+      sparse::scanCoherence(near, runs.size(), deg2rad(o.lobe_bin_deg));
+  // The z a static surface exceeds with probability max_transient_p.
+  const double max_z = -boost::math::quantile(boost::math::normal(), o.max_transient_p);
   std::vector<Run> seen_through;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const double total = static_cast<double>(pass[r] + hit[r]);
@@ -390,6 +342,11 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       continue;
     }
     runs[r].transmission = static_cast<double>(pass[r]) / total;
+    runs[r].coherence_z = coherence[r].z;
+    if (coherence[r].z > max_z && coherence[r].correlation >= o.min_transient_correlation) {
+      ++stats.rejected_transient;
+      continue;
+    }
     seen_through.push_back(std::move(runs[r]));
   }
 
@@ -423,7 +380,8 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     }
     ++stats.panes;
     stats.metres += run.s1 - run.s0;
-    stats.found.push_back({run.end(run.s0), run.end(run.s1), run.returns.size(), run.log10_nfa, run.transmission});
+    stats.found.push_back(
+        {run.end(run.s0), run.end(run.s1), run.returns.size(), run.log10_nfa, run.transmission, run.coherence_z});
     for (std::size_t i : to_draw[r]) {
       if (e.label[i] != kEmpty) continue;  // an earlier pane drew it
       e.label[i] = labelOf(run);

@@ -13,7 +13,7 @@
 namespace glassmap::pipeline {
 namespace {
 
-// The panes of the sparse-pane search: ends [m], returns, log10 NFA, transmission.
+// The panes of the sparse-pane search: ends [m], returns, log10 NFA, transmission, coherence z.
 nlohmann::json sparsePanesJson(const std::vector<glass::SparsePane>& panes) {
   nlohmann::json j = nlohmann::json::array();
   for (const glass::SparsePane& p : panes)
@@ -21,7 +21,8 @@ nlohmann::json sparsePanesJson(const std::vector<glass::SparsePane>& panes) {
                  {"b", {p.b.x(), p.b.y()}},
                  {"returns", p.returns},
                  {"log10_nfa", p.log10_nfa},
-                 {"transmission", p.transmission}});
+                 {"transmission", p.transmission},
+                 {"coherence_z", p.coherence_z}});
   return j;
 }
 
@@ -239,6 +240,7 @@ nlohmann::json mapStatsJson(const MapResult& result, const MapOptions& options, 
                         {"cells_labelled", result.sparse.cells_labelled},
                         {"rejected_chance", result.sparse.rejected_chance},
                         {"rejected_opaque", result.sparse.rejected_opaque},
+                        {"rejected_transient", result.sparse.rejected_transient},
                         {"rejected_through", result.sparse.rejected_through},
                         {"found", sparsePanesJson(result.sparse.found)}}},
                       {"opaque_glass",

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "glass_sim_test_util.hpp"
 #include "glassmap/glass/mapping.hpp"
@@ -100,6 +101,44 @@ TEST(SparsePanes, DrawsNothingWithoutGlass) {
   EXPECT_GT(s.runs_tested, 0u);  // there was something to reject
   EXPECT_EQ(s.panes, 0u);
   EXPECT_EQ(e.countGlass(), before);
+}
+
+TEST(SparsePanes, PeopleWalkingByAreNotPanes) {
+  // The weak-laser corridor, and its glass-free twin, with people walking: a person crossing in
+  // front of the robot leaves a line of returns normal to the beams, crossed by beams before and
+  // after. Its near-normal beams return scan by scan, all together; a pane's each on its own.
+  for (const bool glass : {true, false}) {
+    sim::Scene scene = glassCorridor(glass);
+    scene.people.density = 5.0;  // per 100 m^2
+    testing::Classified c = testing::simulateAndClassify(scene);
+    SparsePaneOptions so;
+    so.range_sigma = 0.005;
+    so.range_sigma_rel = 0.01;
+    CellEvidence e = c.mapped.evidence, without = c.mapped.evidence;
+    const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, e);
+    SparsePaneOptions no_test = so;
+    no_test.min_transient_correlation = 2.0;  // above any correlation: the transient test never rejects
+    const SparsePaneStats s0 = findSparsePanes(c.log, c.options.beams, no_test, without);
+    const std::vector<double> panes = glass ? std::vector<double>{0.0, 2.4} : std::vector<double>{};
+    const GlassCount before = countGlass(c.mapped.evidence, panes, 2, 14);
+    const GlassCount with = countGlass(e, panes, 2, 14), plain = countGlass(without, panes, 2, 14);
+    std::printf(
+        "%s, people: classifier %zu pane cells, %zu elsewhere; sparse panes %zu (%.1f m), %zu pane cells, %zu "
+        "elsewhere, %zu runs transient; without the test %zu (%.1f m), %zu pane cells, %zu elsewhere\n",
+        glass ? "glass corridor" : "glass-free floor", before.on, before.off, s.panes, s.metres, with.on, with.off,
+        s.rejected_transient, s0.panes, s0.metres, plain.on, plain.off);
+    EXPECT_GT(s.rejected_transient, 0u);
+    EXPECT_EQ(s0.rejected_transient, 0u);
+    EXPECT_LT(with.off, plain.off);  // people drew glass the test takes away
+    EXPECT_LT(s.metres, s0.metres);
+    if (glass) {
+      EXPECT_GT(with.on - before.on, 240u);            // the panes stay (people hide parts of them)
+      EXPECT_GE(with.on, plain.on - plain.on / 20);    // ...as found without the test
+      EXPECT_LT(with.off - before.off, with.on / 20);  // and little is drawn elsewhere
+    } else {
+      EXPECT_LT(s.metres, 1.0);
+    }
+  }
 }
 
 }  // namespace

@@ -107,13 +107,14 @@ TEST(Pipeline, StepsCanBeSwitchedOff) {
   o.method = MapMethod::Direct;
   o.phantoms = false;
   o.opaque_glass = false;
+  o.sparse_panes = false;
   o.fit_floorplan = false;
   o.prune_unfitted_glass = false;
   const MapResult bare = mapLog(log, o);
   EXPECT_EQ(bare.mrf.active_cells, 0u);
   EXPECT_EQ(bare.phantoms.beams_through_glass, 0u);
   EXPECT_EQ(bare.opaque.glass_cells, 0u);
-  EXPECT_EQ(bare.sparse.weak_returns, 0u);  // off by default
+  EXPECT_EQ(bare.sparse.weak_returns, 0u);
   EXPECT_FALSE(bare.has_floorplan);
   EXPECT_TRUE(bare.floorplan.map.segments.empty());
   EXPECT_EQ(bare.pruned_glass, 0u);

@@ -37,10 +37,9 @@ struct MapOptions {
   MapMethod method = MapMethod::Mrf;
   glass::MappingOptions mapping;  ///< grid, beams, classifiers (mapping.method is set from method)
   mrf::RefineOptions mrf;         ///< used when method == Mrf
-  /// Look for panes too faint for the cell classifiers (glass/sparse_panes.hpp). Off by default: on
-  /// a simulated corridor with people walking it draws their crossings as panes (precision 0.90 ->
-  /// 0.82), and on real logs it finds runs nobody can check.
-  bool sparse_panes = false;
+  /// Look for panes too faint for the cell classifiers (glass/sparse_panes.hpp). On by default since
+  /// runs whose near-normal beams return scan by scan (people walking by) are rejected.
+  bool sparse_panes = true;
   glass::SparsePaneOptions sparse;
   bool opaque_glass = true;  ///< glass cells the beams do not pass take a non-glass label (glass/opaque_glass.hpp)
   glass::OpaqueGlassOptions opaque;

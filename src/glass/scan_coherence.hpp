@@ -1,0 +1,38 @@
+#pragma once
+/// Whether a run of weak returns came from something static or from something that was there for a
+/// moment (glass/sparse_panes.hpp). A pane answers each beam near its normal on its own, with the
+/// probability its lobe gives the beam's incidence, whenever the beam comes: two beams of one scan
+/// return together no more often than their rates multiply. A person walking by answers every beam
+/// that meets it while it is there and none before or after: the returns come scan by scan, all
+/// the near-normal beams of a scan together. So the within-scan correlation of the near-normal
+/// beams' outcomes, given their incidence (the score test for extra-binomial variation: Tarone
+/// 1979, with per-beam rates), is about 0 for a pane and near 1 for a transient.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace glassmap::glass::sparse {
+
+/// A beam that met a run within the angle tolerance of its normal: it returned on the run or passed it.
+struct NearNormalBeam {
+  std::uint32_t run = 0;   ///< the run's index
+  std::uint32_t scan = 0;  ///< its scan's index in the log
+  float incidence = 0.0f;  ///< angle to the run's normal [rad], absolute
+  bool returned = false;   ///< true: returned on the run; false: passed it
+};
+
+/// How the outcomes of one run's near-normal beams hang together within scans.
+struct ScanCoherence {
+  double z = 0.0;            ///< score statistic for positive within-scan correlation, N(0,1) for a static surface
+  double correlation = 0.0;  ///< within-scan correlation of the outcomes (0: independent beams, 1: all or none)
+  std::size_t beams = 0;     ///< near-normal beams
+  std::size_t scans = 0;     ///< scans with at least two of them
+};
+
+/// The coherence of each run 0..runs-1 from `beams` (any order; sorted in place). Return rates are
+/// estimated per run and per incidence bin of width bin_width [rad] (the pane's lobe, measured from
+/// its own beams).
+std::vector<ScanCoherence> scanCoherence(std::vector<NearNormalBeam>& beams, std::size_t runs, double bin_width);
+
+}  // namespace glassmap::glass::sparse
