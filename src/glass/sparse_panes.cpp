@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/Geometry>
 #include <boost/math/distributions/normal.hpp>
 #include <boost/math/special_functions/beta.hpp>
 
@@ -134,6 +135,38 @@ double log10BinomialTail(int k, int n, double p) {
   return tail > 0.0 ? std::log10(tail) : -std::numeric_limits<double>::infinity();
 }
 
+// The runs by coarse tile (1 m): run r is listed in every tile that its segment, widened by `band`
+// (and a tile more, for beams that only touch a tile's edge), reaches.
+struct RunTiles {
+  static constexpr double kTile = 1.0;  // [m]
+  grid::GridGeometry grid;
+  std::vector<std::uint32_t> start, runs;  // tile i lists runs[start[i] .. start[i + 1])
+  RunTiles(const std::vector<Run>& all, double band) {
+    Eigen::AlignedBox2d box;
+    for (const Run& run : all) box.extend(run.end(run.s0)).extend(run.end(run.s1));
+    if (box.isEmpty()) box.extend(Vec2::Zero());
+    const double pad = band + kTile;
+    grid.resolution = kTile;
+    grid.origin = box.min() - Vec2(pad, pad);
+    grid.width = static_cast<int>(std::ceil((box.max().x() - box.min().x() + 2 * pad) / kTile)) + 1;
+    grid.height = static_cast<int>(std::ceil((box.max().y() - box.min().y() + 2 * pad) / kTile)) + 1;
+    std::vector<std::vector<std::uint32_t>> lists(grid.cells());
+    for (std::size_t r = 0; r < all.size(); ++r) {
+      Eigen::AlignedBox2d b;
+      b.extend(all[r].end(all[r].s0)).extend(all[r].end(all[r].s1));
+      const grid::CellIndex lo = grid.cellAt(b.min() - Vec2(pad, pad)), hi = grid.cellAt(b.max() + Vec2(pad, pad));
+      for (int y = std::max(lo.y, 0); y <= std::min(hi.y, grid.height - 1); ++y)
+        for (int x = std::max(lo.x, 0); x <= std::min(hi.x, grid.width - 1); ++x)
+          lists[grid.index(x, y)].push_back(static_cast<std::uint32_t>(r));
+    }
+    start.assign(grid.cells() + 1, 0);
+    for (std::size_t i = 0; i < lists.size(); ++i)
+      start[i + 1] = start[i] + static_cast<std::uint32_t>(lists[i].size());
+    runs.reserve(start.back());
+    for (const auto& l : lists) runs.insert(runs.end(), l.begin(), l.end());
+  }
+};
+
 // Per run: returned beams that pass the run and end at least `beyond` past it, and beams that
 // return on it (within `band`) or just behind it; and those of them within tol_a of its normal
 // that returned on it or passed it (no echo counts as passing), with their scans.
@@ -144,15 +177,29 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const s
   struct Tally {
     std::vector<std::uint64_t> pass, hit;
     std::vector<sparse::NearNormalBeam> near;
+    std::vector<std::uint32_t> seen;  // per run: the last beam that tested it (runs span several tiles)
+    std::uint32_t beam = 0;
   };
   tbb::enumerable_thread_specific<Tally> tallies([&] {
-    return Tally{std::vector<std::uint64_t>(runs.size(), 0), std::vector<std::uint64_t>(runs.size(), 0), {}};
+    return Tally{std::vector<std::uint64_t>(runs.size(), 0),
+                 std::vector<std::uint64_t>(runs.size(), 0),
+                 {},
+                 std::vector<std::uint32_t>(runs.size(), 0),
+                 0};
   });
+  // Only the runs a beam comes within `band` of can count it: runs by coarse tile, each registered
+  // in the tiles its segment widened by `band` reaches; a beam tests the runs of the tiles it
+  // crosses, each once (the counts are those of testing every run).
+  const RunTiles tiles(runs, band);
   grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t index, Tally& t) {
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
       const double beyond = beyond_at(beam.range);
       const double direction = wrapPi(beam.angle);
-      for (std::size_t r = 0; r < runs.size(); ++r) {
+      if (++t.beam == 0) {  // the stamps wrapped: start again
+        std::fill(t.seen.begin(), t.seen.end(), 0u);
+        t.beam = 1;
+      }
+      auto test = [&](std::size_t r) {
         const Vec2 n = runs[r].line.normal(), tg = runs[r].line.tangent();
         const double f = n.dot(beam.from) - runs[r].line.rho, g = n.dot(beam.to) - runs[r].line.rho;
         const double incidence = std::abs(angleDiff(direction, runs[r].line.angle));
@@ -169,7 +216,7 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const s
             const double along = tg.dot(beam.from + (f / (f - g)) * (beam.to - beam.from));
             if (along >= runs[r].s0 && along <= runs[r].s1) nearNormal(false);
           }
-          continue;
+          return;
         }
         if (std::abs(g) <= band) {
           const double along = tg.dot(beam.to);
@@ -180,7 +227,7 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const s
         } else if ((f > 0) != (g > 0)) {
           // Crossed: a pass when it ends well beyond, else it stopped just behind (a wall's face).
           const double along = tg.dot(beam.from + (f / (f - g)) * (beam.to - beam.from));
-          if (along < runs[r].s0 || along > runs[r].s1) continue;
+          if (along < runs[r].s0 || along > runs[r].s1) return;
           if (std::abs(g) >= beyond) {
             ++t.pass[r];
             nearNormal(false);
@@ -188,7 +235,16 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const s
             ++t.hit[r];
           }
         }
-      }
+      };
+      grid::traverse(tiles.grid, beam.from, beam.to, [&](int x, int y, double, bool) {
+        const std::size_t cell = tiles.grid.index(x, y);
+        for (std::uint32_t k = tiles.start[cell]; k < tiles.start[cell + 1]; ++k) {
+          const std::uint32_t r = tiles.runs[k];
+          if (t.seen[r] == t.beam) continue;
+          t.seen[r] = t.beam;
+          test(r);
+        }
+      });
     });
   });
   pass.assign(runs.size(), 0);
