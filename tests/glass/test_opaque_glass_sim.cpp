@@ -12,8 +12,8 @@
 namespace glassmap::glass {
 namespace {
 
-TEST(OpaqueGlass, GlassOnAWallFaceIsRelabelledAndRealPanesStay) {
-  // A corridor: glass at y = 0 with a room behind it, a wall at y = 2.4 (noisy laser).
+// A corridor: glass at y = 0 with a room behind it, a wall at y = 2.4; the robot drives along it.
+sim::Scene corridorBehindGlass() {
   sim::Scene scene;
   VectorMap& m = scene.map;
   m.add({0, 0}, {12, 0}, Material::Glass);
@@ -21,6 +21,23 @@ TEST(OpaqueGlass, GlassOnAWallFaceIsRelabelledAndRealPanesStay) {
   m.add({0, 2.4}, {12, 2.4}, Material::Wall);
   scene.trajectory.waypoints = {{0.5, 1.2}, {11.5, 1.2}};
   scene.laser.rate = 10.0;
+  return scene;
+}
+
+// Glass cells with centres in lo <= y <= hi, 1 < x < 11.
+std::size_t glassBetween(const CellEvidence& e, double lo, double hi) {
+  const grid::GridGeometry& g = e.geometry;
+  std::size_t n = 0;
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const Vec2 c = g.center(x, y);
+      n += isGlass(e.label[g.index(x, y)]) && c.y() >= lo && c.y() <= hi && c.x() > 1 && c.x() < 11;
+    }
+  return n;
+}
+
+TEST(OpaqueGlass, GlassOnAWallFaceIsRelabelledAndRealPanesStay) {
+  sim::Scene scene = corridorBehindGlass();  // with a noisy laser
   scene.laser.range_sigma = 0.03;
   testing::Classified c = testing::simulateAndClassify(scene);
   CellEvidence& e = c.mapped.evidence;
@@ -41,15 +58,7 @@ TEST(OpaqueGlass, GlassOnAWallFaceIsRelabelledAndRealPanesStay) {
       }
     }
   }
-  auto count = [&](double lo, double hi) {
-    std::size_t n = 0;
-    for (int y = 0; y < g.height; ++y)
-      for (int x = 0; x < g.width; ++x) {
-        const Vec2 c = g.center(x, y);
-        n += isGlass(e.label[g.index(x, y)]) && c.y() >= lo && c.y() <= hi && c.x() > 1 && c.x() < 11;
-      }
-    return n;
-  };
+  auto count = [&](double lo, double hi) { return glassBetween(e, lo, hi); };
   const std::size_t pane_before = count(-0.15, 0.15), face_before = count(2.0, 2.5), far_before = count(-5.2, -4.8);
   OpaqueGlassOptions oo;
   oo.range_sigma = 0.03;
@@ -75,13 +84,7 @@ TEST(OpaqueGlass, AWallSeenThroughAGappyPaneIsOpaqueAsAWhole) {
   // makes a few of them "pass" it. Each of its cells is then passed once or twice and returned from
   // a few times: too little to decide alone; pooled over the wall, the passes are what the
   // spurious readings explain (their share measured in the scans), and the whole is relabelled.
-  sim::Scene scene;
-  VectorMap& m = scene.map;
-  m.add({0, 0}, {12, 0}, Material::Glass);
-  testing::addPolyline(m, {{-1, 2.4}, {-1, -5}, {13, -5}, {13, 2.4}});
-  m.add({0, 2.4}, {12, 2.4}, Material::Wall);
-  scene.trajectory.waypoints = {{0.5, 1.2}, {11.5, 1.2}};
-  scene.laser.rate = 10.0;
+  sim::Scene scene = corridorBehindGlass();
   scene.laser.range_sigma = 0.01;
   scene.laser.dropout_rate = 0.03;
   scene.laser.random_rate = 0.01;
@@ -101,24 +104,17 @@ TEST(OpaqueGlass, AWallSeenThroughAGappyPaneIsOpaqueAsAWhole) {
       break;
     }
   }
-  auto count = [&](double lo, double hi) {
-    std::size_t n = 0;
-    for (int y = 0; y < g.height; ++y)
-      for (int x = 0; x < g.width; ++x) {
-        const Vec2 q = g.center(x, y);
-        n += isGlass(e.label[g.index(x, y)]) && q.y() >= lo && q.y() <= hi && q.x() > 1 && q.x() < 11;
-      }
-    return n;
-  };
+  auto count = [&](double lo, double hi) { return glassBetween(e, lo, hi); };
   const std::size_t pane_before = count(-0.15, 0.15), far_before = count(-5.2, -4.8);
   OpaqueGlassOptions oo;
   oo.range_sigma = 0.01;
   const OpaqueGlassStats s = relabelOpaqueGlass(c.log, c.options.beams, oo, e);
   const std::size_t pane_after = count(-0.15, 0.15), far_after = count(-5.2, -4.8);
-  std::printf("pane glass %zu -> %zu, far wall %zu -> %zu (drawn %zu); %zu decided alone, %zu by their pane, %zu "
-              "relabelled; spurious share %.3f\n",
-              pane_before, pane_after, far_before, far_after, drawn, s.decided, s.decided_by_pane, s.relabelled,
-              s.spuriousShare());
+  std::printf(
+      "pane glass %zu -> %zu, far wall %zu -> %zu (drawn %zu); %zu decided alone, %zu by their pane, %zu "
+      "relabelled; spurious share %.3f\n",
+      pane_before, pane_after, far_before, far_after, drawn, s.decided, s.decided_by_pane, s.relabelled,
+      s.spuriousShare());
   EXPECT_GT(far_before, 150u);
   EXPECT_LT(far_after, far_before / 10);
   EXPECT_GE(pane_after, pane_before * 95 / 100);
