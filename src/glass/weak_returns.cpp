@@ -9,6 +9,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "glass_tiles.hpp"
 #include "glassmap/grid/distance_transform.hpp"
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
@@ -16,39 +17,12 @@
 namespace glassmap::glass::sparse {
 namespace {
 
-// Candidate number of every cell, held in 16 x 16 tiles allocated where candidates are.
-class CandidateIndex {
- public:
-  explicit CandidateIndex(const CellEvidence& e)
-      : g_(e.geometry),
-        tiles_x_((g_.width + 15) / 16),
-        tiles_(static_cast<std::size_t>(tiles_x_) * ((g_.height + 15) / 16)) {
-    for (std::size_t i = 0; i < e.cells.size(); ++i) {
-      const grid::CellIndex c = g_.cellOf(e.cells[i]);
-      auto& tile = tiles_[tileOf(c.x, c.y)];
-      if (tile.empty()) tile.assign(256, -1);
-      tile[static_cast<std::size_t>(((c.y & 15) << 4) | (c.x & 15))] = static_cast<std::int32_t>(i);
-    }
-  }
-  /// Candidate number of cell (x, y) inside the grid, or -1.
-  std::int32_t find(int x, int y) const {
-    const auto& tile = tiles_[tileOf(x, y)];
-    return tile.empty() ? -1 : tile[static_cast<std::size_t>(((y & 15) << 4) | (x & 15))];
-  }
-
- private:
-  std::size_t tileOf(int x, int y) const { return static_cast<std::size_t>(y >> 4) * tiles_x_ + (x >> 4); }
-  const grid::GridGeometry& g_;
-  std::size_t tiles_x_;
-  std::vector<std::vector<std::int32_t>> tiles_;
-};
-
 // Returns and passes per candidate cell: a pass is a returned beam that crosses the cell and ends
 // at least `margin` beyond it.
 void countPasses(const LaserLog& log, const grid::BeamOptions& beams, const CellEvidence& e, double margin,
                  std::vector<std::uint32_t>& hits, std::vector<std::uint32_t>& passes) {
   const grid::GridGeometry& g = e.geometry;
-  const CandidateIndex index(e);
+  const detail::CandidateIndex index(e);
   struct Tally {
     std::vector<std::uint32_t> hits, passes;
   };
@@ -60,7 +34,7 @@ void countPasses(const LaserLog& log, const grid::BeamOptions& beams, const Cell
       if (!beam.hit) return;
       const double pass_until = beam.range - margin;
       grid::traverse(g, beam.from, beam.to, [&](int x, int y, double enter, bool last) {
-        const std::int32_t id = index.find(x, y);
+        const std::int64_t id = index.find(x, y);
         if (id < 0) return;
         const auto c = static_cast<std::size_t>(id);
         if (last)

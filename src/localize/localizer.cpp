@@ -47,8 +47,9 @@ LocalizeResult localizeLog(const LaserLog& log, sensor::SensorModel& model, cons
   Pose2 odom_at_update = laserOdom(log.scans.front());
   std::vector<std::uint8_t> sure;  // per scan: the filter converged (one tight mode holds the mass)
   sure.reserve(log.scans.size());
-  std::size_t jumps = 0;    // relocalizations so far
-  double since_jump = 0.0;  // odometry travel since the last one [m]
+  std::vector<double> travelled;  // per scan: odometry distance from the first scan [m]
+  travelled.reserve(log.scans.size());
+  Pose2 odom_before = odom_at_update;
   Pose2 est_at_update;
   result.trajectory.reserve(log.scans.size());
   for (std::size_t k = 0; k < log.scans.size(); ++k) {
@@ -102,15 +103,10 @@ LocalizeResult localizeLog(const LaserLog& log, sensor::SensorModel& model, cons
     result.particles.push_back(filter.size());
     result.corrected.push_back(updated ? 1 : 0);
     result.relocalized.push_back(filter.relocalizations());
-    // Between updates the filter's state stands as it was at the last one. After a jump of the
-    // estimate to another place, that place has only the scans since its probe began for it: it
-    // is not yet an answer until the robot has travelled as far as a global start needs.
-    if (k > 0) since_jump += (odom.t - laserOdom(log.scans[k - 1]).t).norm();
-    if (filter.relocalizations() != jumps) {
-      jumps = filter.relocalizations();
-      since_jump = 0.0;
-    }
-    sure.push_back(filter.converged() && (jumps == 0 || since_jump >= options.converged_after_jump) ? 1 : 0);
+    // Between updates the filter's state stands as it was at the last one.
+    sure.push_back(filter.converged() ? 1 : 0);
+    travelled.push_back((travelled.empty() ? 0.0 : travelled.back()) + (odom.t - odom_before.t).norm());
+    odom_before = odom;
   }
   result.relocalizations = filter.relocalizations();
   result.probes = filter.probes();
@@ -120,6 +116,14 @@ LocalizeResult localizeLog(const LaserLog& log, sensor::SensorModel& model, cons
   // or rival places still alive, is not) from some scan to the end. Never a confident answer
   // while the cloud is still split.
   const std::size_t n = result.spread.size();
+  // After a jump of the estimate to another place, that place has only the scans since its probe
+  // began for it: it is no answer until the robot has travelled as far again as a global start
+  // needs (converged_after_jump).
+  double jumped_at = 0.0;  // odometry distance of the last jump [m]
+  for (std::size_t k = 0; k < n; ++k) {
+    if (k > 0 && result.relocalized[k] != result.relocalized[k - 1]) jumped_at = travelled[k];
+    if (result.relocalized[k] > 0 && travelled[k] - jumped_at < options.converged_after_jump) sure[k] = 0;
+  }
   result.settled.assign(n, 0);
   for (std::size_t k = n; k-- > 0;) {
     if (!sure[k] || (k + 1 < n && !result.settled[k + 1])) break;
@@ -132,9 +136,7 @@ LocalizeResult localizeLog(const LaserLog& log, sensor::SensorModel& model, cons
       first_settled = k;
       break;
     }
-  double settled_travel = 0.0;
-  for (std::size_t k = first_settled + 1; k < n; ++k)
-    settled_travel += (laserOdom(log.scans[k]).t - laserOdom(log.scans[k - 1]).t).norm();
+  const double settled_travel = first_settled < n ? travelled[n - 1] - travelled[first_settled] : 0.0;
   result.converged = n > 0 && result.settled[n - 1] && settled_travel >= options.converged_min_travel;
   if (!result.converged) std::fill(result.settled.begin(), result.settled.end(), std::uint8_t{0});
   for (std::size_t k = 0; k < n && result.converged; ++k)
