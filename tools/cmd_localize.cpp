@@ -41,11 +41,12 @@ struct LocalizeArgs {
   bool inject_always = false;
   double lost_share = localize::FilterOptions{}.contradiction_share;
   bool quiet = false;
+  bool walls_only = false;
 };
 
 void run(const LocalizeArgs& a) {
   std::string scale_warning;
-  const VectorMap map = cli::readPlan(a.map, a.units, a.layers, a.quiet, &scale_warning);
+  const VectorMap map = cli::readPlan(a.map, a.units, a.layers, a.quiet, &scale_warning, !a.walls_only);
   // Localizing against a plan of the wrong scale gives a confident wrong answer: without an
   // explicit --units, refuse; with one, only warn.
   pipeline::checkLocalizationPlan(map, a.map, scale_warning, !a.units.empty());
@@ -152,6 +153,9 @@ const cli::Registrar reg(60, [](CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   sub->add_option("-o,--output", a->out, "estimated trajectory (TUM)")->required();
+  sub->add_flag("--walls-only", a->walls_only,
+                "localize in the building alone: leave a glassmap plan's CLUTTER layer (furniture kept apart\n"
+                "from the walls, read as walls by default) out, as a building drawing would");
   sub->add_option("--model", a->model, "sensor model")
       ->check(CLI::IsMember({"glass", "glass-paper", "beam", "field"}))
       ->capture_default_str();

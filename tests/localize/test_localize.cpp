@@ -36,6 +36,35 @@ TEST(MotionModel, BackwardMotionIsANegativeTranslation) {
   EXPECT_NEAR(d.rot2, 0.0, 1e-12);
 }
 
+TEST(MotionModel, AShortStepSidewaysDoesNotTurnTheHeading) {
+  // Rotating in place by 1 deg while the pose jitters 1 cm sideways (a scan matcher's noise, a laser
+  // off the turning axis): the book's decomposition reads "turn 89 deg, move 1 cm, turn back 88
+  // deg". The heading must spread as for a 1 deg turn, not as for two right angles.
+  const OdometryNoise a;  // the defaults
+  const Pose2 from(0, 0, 0);
+  const Pose2 to(0.0002, 0.01, deg2rad(1.0));
+  const OdometryDelta d = odometryDelta(from, to);
+  ASSERT_GT(std::abs(d.rot1), deg2rad(80.0));
+  std::mt19937_64 rng(3);
+  const int n = 20000;
+  double sum = 0, sum2 = 0, lateral2 = 0;
+  for (int i = 0; i < n; ++i) {
+    const Pose2 p = sampleMotionOdometry(from, d, a, rng);
+    const double e = angleDiff(p.theta, to.theta);
+    sum += e;
+    sum2 += e * e;
+    lateral2 += (p.t - to.t).squaredNorm();
+  }
+  const double turn = d.rot1 + d.rot2;
+  const double t = std::abs(d.trans);
+  const double want = a.alpha1 * turn * turn + 2.0 * a.alpha2 * t * t + a.walk_turn * std::abs(turn) + a.walk_heading * t;
+  EXPECT_NEAR(sum / n, 0.0, 1e-3);
+  EXPECT_NEAR(sum2 / n / want, 1.0, 0.05);
+  // The book's independent rotations would give a heading sd of about 5.5 deg here; this is 0.24.
+  EXPECT_LT(std::sqrt(sum2 / n), deg2rad(0.3));
+  EXPECT_LT(std::sqrt(lateral2 / n), 0.005);  // the step's end stays within millimetres (the book: 7 cm)
+}
+
 TEST(MotionModel, SampleStatisticsMatchTheAlphas) {
   const OdometryNoise a{0.1, 0.02, 0.05, 0.01, 0.004, 0.003, 0.002};
   const Pose2 x(0, 0, 0);
@@ -55,11 +84,11 @@ TEST(MotionModel, SampleStatisticsMatchTheAlphas) {
     var_trans += (trans[i] - mean_trans) * (trans[i] - mean_trans) / n;
     var_rot += (heading[i] - mean_rot) * (heading[i] - mean_rot) / n;
   }
-  // trans ~ N(1, a3 + a4 (rot1^2 + rot2^2) + walk_trans); heading = rot1 + rot2 with independent
-  // noises, each with half the heading walk of the metre driven.
-  const double want_var_trans = a.alpha3 * 1.0 + a.alpha4 * (0.04 + 0.01) + a.walk_trans;
-  const double want_var_rot = (a.alpha1 * 0.04 + a.alpha2 + a.walk_turn * 0.2 + a.walk_heading / 2) +
-                              (a.alpha1 * 0.01 + a.alpha2 + a.walk_turn * 0.1 + a.walk_heading / 2);
+  // trans ~ N(1, a3 + a4 turn^2 + walk_trans); the heading turns by rot1 + rot2 with the
+  // noise of that turn (a1 turn^2 + walk_turn |turn|) and of the metre driven (a2 in both of the
+  // book's rotations, the whole heading walk).
+  const double want_var_trans = a.alpha3 * 1.0 + a.alpha4 * 0.01 + a.walk_trans;
+  const double want_var_rot = a.alpha1 * 0.01 + 2.0 * a.alpha2 + a.walk_turn * 0.1 + a.walk_heading;
   EXPECT_NEAR(mean_trans, 1.0, 0.01);
   EXPECT_NEAR(mean_rot, 0.1, 0.01);
   EXPECT_NEAR(var_trans / want_var_trans, 1.0, 0.05);

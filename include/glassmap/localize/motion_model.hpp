@@ -35,8 +35,13 @@ struct OdometryDelta {
 OdometryDelta odometryDelta(const Pose2& from, const Pose2& to);
 
 /// Samples x' ~ p(x' | u, x) with u = delta (Probabilistic Robotics eq. 5.37-5.45, the variances
-/// extended by the random walks: rot_i: alpha1 rot_i^2 + alpha2 trans^2 + walk_turn |rot_i| +
-/// walk_heading |trans| / 2; trans: alpha3 trans^2 + alpha4 (rot1^2 + rot2^2) + walk_trans |trans|).
+/// extended by the random walks): the direction of travel rot1 with variance alpha1 rot1^2 +
+/// alpha2 trans^2 + walk_turn |rot1| + walk_heading |trans| / 2, the translation with alpha3
+/// trans^2 + alpha4 turn^2 + walk_trans |trans|, and the new heading from the turn = rot1 + rot2
+/// with alpha1 turn^2 + 2 alpha2 trans^2 + walk_turn |turn| + walk_heading |trans|: the book's
+/// noise on rot1 and rot2 apart would turn the heading (and stretch the step) of a robot rotating in
+/// place by a twentieth of rot1 at every short step whose direction is jitter or an off-axis
+/// laser's arc.
 /// Backward motion (rot1 near +-pi) is folded into a negative translation so it does not count as
 /// two half turns.
 Pose2 sampleMotionOdometry(const Pose2& x, const OdometryDelta& delta, const OdometryNoise& noise,
