@@ -22,6 +22,35 @@ void ParticleFilter::rememberScan(const sensor::BeamSet& beams) {
     history_.erase(history_.begin());
 }
 
+std::vector<double> ParticleFilter::drawNearEstimate(Hypothesis& h) {
+  const std::size_t n = h.particles.size();
+  std::vector<double> log_iw(n, 0.0);
+  const double share = std::clamp(opt_.probe_near_share, 0.0, 1.0);
+  const auto local = static_cast<std::size_t>(std::floor(share * static_cast<double>(n)));
+  if (local == 0 || hyps_.empty()) return log_iw;
+  const Pose2 at = best().estimate;
+  const double sxy = 0.5 * opt_.jump_m, sth = 0.5 * opt_.jump_heading;
+  std::normal_distribution<double> n01(0.0, 1.0);
+  for (std::size_t i = n - local; i < n; ++i)
+    h.particles[i].pose = Pose2(at.t + sxy * Vec2(n01(rng_), n01(rng_)), wrapAngle(at.theta + sth * n01(rng_)));
+  // Density of the uniform draws over the free space and headings, and of the local ones.
+  double area = static_cast<double>(free_cells_.size()) * free_cell_ * free_cell_;
+  if (!(area > 0)) area = std::max(model_.map().bounds().volume(), 1.0);
+  const double log_uniform = -std::log(area * 2.0 * kPi);
+  const double log_norm = -std::log(2.0 * kPi * sxy * sxy) - std::log(std::sqrt(2.0 * kPi) * sth);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Pose2& x = h.particles[i].pose;
+    const double d2 = (x.t - at.t).squaredNorm() / (sxy * sxy);
+    const double a = angleDiff(x.theta, at.theta) / sth;
+    const double log_local = log_norm - 0.5 * (d2 + a * a);
+    // log(uniform / ((1 - share) uniform + share local))
+    const double hi = std::max(std::log1p(-share) + log_uniform, std::log(share) + log_local);
+    log_iw[i] = log_uniform - (hi + std::log(std::exp(std::log1p(-share) + log_uniform - hi) +
+                                             std::exp(std::log(share) + log_local - hi)));
+  }
+  return log_iw;
+}
+
 Hypothesis ParticleFilter::probeFromScans(std::size_t count, double log_prior, const sensor::BeamSet& beams) {
   // The probe is the broad hypothesis "the robot is anywhere on the floor" as it would stand had it
   // started at the oldest remembered scan: as many random poses as a global start draws, each
@@ -32,6 +61,12 @@ Hypothesis ParticleFilter::probeFromScans(std::size_t count, double log_prior, c
   // and one scan along a corridor fits every place along it.
   const std::size_t n = std::max(globalParticles(), count);
   Hypothesis h = makeBroad(n, log_prior);
+  // A share of the draws lands near the tracked estimate (within the reach of a correction the
+  // odometry could have needed: jump_m, jump_heading at two sigma): a cloud that slid off along a
+  // corridor or into a part of the floor the plan leaves empty is most often a metre or two from the
+  // robot, where uniform draws are one per third of a square metre at any heading. Each draw is
+  // weighed by uniform / proposal density, so the probe still stands for "anywhere on the floor".
+  const std::vector<double> log_iw = drawNearEstimate(h);
   std::vector<Pose2> at(n);
   std::vector<double> score(n, 0.0), current(n), ll(n);
   double filter_marginal = 0.0;
@@ -56,7 +91,9 @@ Hypothesis ParticleFilter::probeFromScans(std::size_t count, double log_prior, c
   filter_marginal += last_novelty_ * last_marginal_;
   // The mass: the scans' marginal likelihood over the floor (the mean over uniform draws) against
   // that over the filter's hypotheses.
-  h.log_mass = log_prior + detail::logSumExp(score) - std::log(static_cast<double>(n)) - filter_marginal;
+  std::vector<double> weighted(n);
+  for (std::size_t i = 0; i < n; ++i) weighted[i] = score[i] + log_iw[i];
+  h.log_mass = log_prior + detail::logSumExp(weighted) - std::log(static_cast<double>(n)) - filter_marginal;
   // The best of them climb to the nearest optimum of the current scan's likelihood and are weighed
   // again (their place in the cloud, not the mass: a climbed pose is no uniform draw): a random
   // pose rarely lands within centimetres of the robot, often within a climb's reach.
@@ -87,7 +124,7 @@ Hypothesis ParticleFilter::probeFromScans(std::size_t count, double log_prior, c
   }
   const double inv_t = 1.0 / std::max(opt_.global_temperature, 1.0);
   std::vector<double> w(n);
-  for (std::size_t i = 0; i < n; ++i) w[i] = inv_t * score[i];
+  for (std::size_t i = 0; i < n; ++i) w[i] = inv_t * score[i] + log_iw[i];
   const double norm = detail::logSumExp(w);
   for (double& v : w) v = std::exp(v - norm);
   std::uniform_real_distribution<double> u01(0.0, 1.0);

@@ -118,6 +118,9 @@ struct FilterOptions {
                                            ///< a global start's random poses that best fit the recent scans:
   double probe_history_m = 2.0;            ///< those of the last this much travel since the last break [m],
   int probe_history_scans = 4;             ///< at most this many, evenly spaced (and the current one) [-];
+  double probe_near_share = 0.25;          ///< ... (this share of them drawn around the tracked estimate,
+                                           ///< jump_m and jump_heading at two sigma, each weighed by uniform /
+                                           ///< proposal density) [-]
   int probe_climbs = 256;                  ///< the best this many of them climb on the current scan before
                                            ///< the max_particles are chosen (the probe's mass takes the draws
                                            ///< as drawn: climbed poses are no uniform sample) [-]
@@ -218,6 +221,7 @@ class ParticleFilter {
   void maybeStartProbe(const sensor::BeamSet& beams);
   void rememberScan(const sensor::BeamSet& beams);
   Hypothesis probeFromScans(std::size_t count, double log_prior, const sensor::BeamSet& beams);
+  std::vector<double> drawNearEstimate(Hypothesis& h);  // moves a share near the estimate; log importance weights
   void organise();  // split, merge, prune, normalise
   bool resample(Hypothesis& h, bool is_best, bool force = false);
   void resetConsistency();
