@@ -14,7 +14,7 @@ namespace glassmap::localize {
 void ParticleFilter::rememberScan(const sensor::BeamSet& beams) {
   // The scans since the last break (the odometry between them holds), one per
   // probe_history_m / probe_history_scans of travel, over the last probe_history_m.
-  if (!guarded() || !opt_.probe_from_scan || opt_.probe_history_scans <= 0) return;
+  if (opt_.recovery != Recovery::Probe || !opt_.probe_from_scan || opt_.probe_history_scans <= 0) return;
   const double spacing = opt_.probe_history_m / opt_.probe_history_scans;
   if (!history_.empty() && travelled_ - history_.back().travelled < spacing) return;
   history_.push_back({beams, odom_, travelled_, last_novelty_, last_marginal_});
