@@ -1,4 +1,4 @@
-// Recovery probes of a filter tracked from a known start: drawn where the recent scans fit.
+// Recovery probes (and a global start's rechecks): drawn where the recent scans fit.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -45,8 +45,9 @@ std::vector<double> ParticleFilter::drawNearEstimate(Hypothesis& h) {
     const double log_local = log_norm - 0.5 * (d2 + a * a);
     // log(uniform / ((1 - share) uniform + share local))
     const double hi = std::max(std::log1p(-share) + log_uniform, std::log(share) + log_local);
-    log_iw[i] = log_uniform - (hi + std::log(std::exp(std::log1p(-share) + log_uniform - hi) +
-                                             std::exp(std::log(share) + log_local - hi)));
+    log_iw[i] =
+        log_uniform -
+        (hi + std::log(std::exp(std::log1p(-share) + log_uniform - hi) + std::exp(std::log(share) + log_local - hi)));
   }
   return log_iw;
 }

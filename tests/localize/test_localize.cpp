@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <numeric>
 #include <sstream>
 
@@ -57,7 +58,8 @@ TEST(MotionModel, AShortStepSidewaysDoesNotTurnTheHeading) {
   }
   const double turn = d.rot1 + d.rot2;
   const double t = std::abs(d.trans);
-  const double want = a.alpha1 * turn * turn + 2.0 * a.alpha2 * t * t + a.walk_turn * std::abs(turn) + a.walk_heading * t;
+  const double want =
+      a.alpha1 * turn * turn + 2.0 * a.alpha2 * t * t + a.walk_turn * std::abs(turn) + a.walk_heading * t;
   EXPECT_NEAR(sum / n, 0.0, 1e-3);
   EXPECT_NEAR(sum2 / n / want, 1.0, 0.05);
   // The book's independent rotations would give a heading sd of about 5.5 deg here; this is 0.24.
@@ -189,15 +191,12 @@ TEST(ParticleFilter, GlobalInitialisationCoversTheFreeSpace) {
   EXPECT_NEAR(right / 5000.0, 0.5, 0.05);
 }
 
-// Drives a filter started at (2, 1.5, 0.3) for 10 steps, carries the robot to `to` without
-// odometry, drives `steps_after` more steps (5 cm each); returns the final position and heading
-// errors.
-std::pair<double, double> kidnapRun(const Pose2& to, bool inject_always, int steps_after = 80) {
-  const auto model = sensor::makeSensorModel("glass", room());
-  FilterOptions o;
-  o.max_particles = 4000;
-  o.seed = 5;
-  o.recovery = inject_always ? Recovery::Inject : Recovery::Probe;
+// Drives a filter on `map` started at (2, 1.5, 0.3) for 10 steps (5 cm, turning 0.03 rad each),
+// carries the robot to carry(truth) without odometry, drives `steps_after` more steps; returns the
+// estimate and the true pose at the end.
+std::pair<Pose2, Pose2> carryRun(const VectorMap& map, const FilterOptions& o,
+                                 const std::function<Pose2(const Pose2&)>& carry, int steps_after) {
+  const auto model = sensor::makeSensorModel("glass", map);
   ParticleFilter f(*model, o);
   Pose2 truth(2.0, 1.5, 0.3);
   f.initialize(truth, 0.05, 0.02);
@@ -211,9 +210,20 @@ std::pair<double, double> kidnapRun(const Pose2& to, bool inject_always, int ste
   };
   drive(10);
   EXPECT_LT((f.estimate().t - truth.t).norm(), 0.05);
-  truth = to;  // carried away without odometry
+  truth = carry(truth);  // carried away without odometry
   drive(steps_after);
-  return {(f.estimate().t - truth.t).norm(), std::abs(angleDiff(f.estimate().theta, truth.theta))};
+  return {f.estimate(), truth};
+}
+
+// The kidnap of carryRun in the room to `to`; returns the final position and heading errors.
+std::pair<double, double> kidnapRun(const Pose2& to, bool inject_always, int steps_after = 80) {
+  FilterOptions o;
+  o.max_particles = 4000;
+  o.seed = 5;
+  o.recovery = inject_always ? Recovery::Inject : Recovery::Probe;
+  const auto [e, truth] = carryRun(
+      room(), o, [&](const Pose2&) { return to; }, steps_after);
+  return {(e.t - truth.t).norm(), std::abs(angleDiff(e.theta, truth.theta))};
 }
 
 // The room is symmetric under a half turn but for the short wall at (6..8, 2..3.5), so a kidnapped
@@ -255,28 +265,16 @@ double slipRun(double near_share, std::uint64_t seed = 3) {
     s.b = b;
     map.segments.push_back(s);
   }
-  const auto model = sensor::makeSensorModel("glass", map);
   FilterOptions o;
   o.max_particles = 2000;
   o.max_global_particles = 2000;
   o.probe_near_share = near_share;
   o.probe_climbs = 0;  // the draws alone (a climb from afar finds a room this simple)
   o.seed = seed;
-  ParticleFilter f(*model, o);
-  Pose2 truth(2.0, 1.5, 0.3);
-  f.initialize(truth, 0.05, 0.02);
-  const auto drive = [&](int steps) {
-    for (int k = 0; k < steps; ++k) {
-      const Pose2 next = truth * Pose2(0.05, 0, 0.03);
-      f.predict(odometryDelta(truth, next));
-      truth = next;
-      f.correct(sensor::makeBeamSet(scanAt(*model, truth), 30));
-    }
-  };
-  drive(10);
-  truth = truth * Pose2(0.3, 1.16, deg2rad(15.0));  // slipped, the odometry says nothing
-  drive(60);  // 3 m
-  return (f.estimate().t - truth.t).norm();
+  // Slipped, the odometry says nothing; then 3 m.
+  const auto [e, truth] = carryRun(
+      map, o, [](const Pose2& x) { return x * Pose2(0.3, 1.16, deg2rad(15.0)); }, 60);
+  return (e.t - truth.t).norm();
 }
 
 TEST(ParticleFilter, AProbeLooksNearTheEstimateFirst) {

@@ -15,9 +15,11 @@
 /// be lost (the likelihood drops below its long-run average, or readings run through walls the
 /// model cannot explain), a probe (a broad hypothesis of random particles) starts beside the
 /// tracked one with a small prior mass, and takes over only if the scans that follow favour it by
-/// more than that prior (a sequential likelihood-ratio test); otherwise it dies out. When tracking
-/// from a known start a probe is drawn where the scans of the last metres fit (the global start's
-/// density of random poses weighed by them), and may not lead while still spread over the floor.
+/// more than that prior (a sequential likelihood-ratio test); otherwise it dies out, unless it still
+/// holds a doubt above converged_doubt (a look-alike place the scans never told apart). A probe
+/// is drawn where the scans of the last metres fit (the global start's density of random poses,
+/// a quarter of them around the tracked estimate, weighed by those scans), and may not lead while
+/// still spread over the floor.
 /// A place far from the estimate also needs the scans to say the robot jumped
 /// (a break: ScanConsistency) or to have out-explained the estimate over metres: clutter lined up
 /// with other walls elsewhere fits for a room, a kidnapped robot's scans contradict its odometry.
@@ -114,8 +116,9 @@ struct FilterOptions {
   double jump_m = 2.0;                     ///< the guard holds only places farther than this from the tracked
   double jump_heading = deg2rad(30.0);     ///< estimate [m], or turned more than this [rad]: nearer ones are a
                                            ///< correction odometry can need (a cloud that slid in clutter)
-  bool probe_from_scan = true;             ///< tracking from a known start, a probe keeps the max_particles of
-                                           ///< a global start's random poses that best fit the recent scans:
+  bool probe_from_scan = true;             ///< a probe keeps the max_particles (after a global start: as many
+                                           ///< as it drew) of a global start's random poses that best fit the
+                                           ///< recent scans:
   double probe_history_m = 2.0;            ///< those of the last this much travel since the last break [m],
   int probe_history_scans = 4;             ///< at most this many, evenly spaced (and the current one) [-];
   double probe_near_share = 0.25;          ///< ... (this share of them drawn around the tracked estimate,
@@ -221,7 +224,8 @@ class ParticleFilter {
   void maybeStartProbe(const sensor::BeamSet& beams);
   void rememberScan(const sensor::BeamSet& beams);
   Hypothesis probeFromScans(std::size_t count, double log_prior, const sensor::BeamSet& beams);
-  std::vector<double> drawNearEstimate(Hypothesis& h);  // moves a share near the estimate; log importance weights
+  // Moves a share of a probe's draws near the estimate; returns each draw's log importance weight.
+  std::vector<double> drawNearEstimate(Hypothesis& h);
   void organise();  // split, merge, prune, normalise
   bool resample(Hypothesis& h, bool is_best, bool force = false);
   void resetConsistency();
