@@ -198,8 +198,9 @@ const cli::Registrar reg(60, [](CLI::App& app) {
   sub->add_flag("--inject-always", a->inject_always,
                 "recover as plain augmented MCL does: random particles into the cloud whenever the likelihood\n"
                 "drops, a global restart when it collapses. By default a drop (or readings through walls)\n"
-                "starts a probe: random particles as a rival hypothesis with a prior of 1e-4, which replaces\n"
-                "the tracked cloud only when the scans that follow favour it by more than that prior");
+                "starts a probe: random particles (kept where the last metres of scans fit, a quarter drawn\n"
+                "near the estimate) as a rival hypothesis with a prior of 1e-4, which replaces the tracked\n"
+                "cloud only when the scans that follow favour it by more than that prior");
   sub->add_option("--seed", a->seed, "random seed; the same seed gives the same estimate")->capture_default_str();
   sub->add_option("--json", a->json, "also write the summary as JSON");
   sub->add_option("--spread", a->spread,

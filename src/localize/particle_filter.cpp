@@ -251,8 +251,8 @@ void ParticleFilter::maybeStartProbe(const sensor::BeamSet& beams) {
   // clutter of a real scan (Freiburg 079 with perfect odometry: lost with a probe from the free
   // area, 0.05 m with max_particles).
   const auto count = global_start_ ? globalParticles() : static_cast<std::size_t>(opt_.max_particles);
-  Hypothesis probe =
-      !opt_.probe_from_scan ? makeBroad(count, std::log(prior)) : probeFromScans(count, std::log(prior), beams);
+  Hypothesis probe = !opt_.probe_from_scan ? makeBroad(count, std::log(prior))
+                                           : probeFromScans(count, std::log(prior), beams, !trusted);
   probe.probe = true;
   // Still broad, it may not lead a tracked estimate, not even on the scan it starts with (its
   // mass took the recent scans, the estimate's came from further back).

@@ -223,7 +223,9 @@ class ParticleFilter {
   void updateContradiction(const sensor::BeamSet& beams);
   void maybeStartProbe(const sensor::BeamSet& beams);
   void rememberScan(const sensor::BeamSet& beams);
-  Hypothesis probeFromScans(std::size_t count, double log_prior, const sensor::BeamSet& beams);
+  // best_place: the probe's mass from the best place it found, not the floor's mean (an untrusted
+  // estimate's rechecks).
+  Hypothesis probeFromScans(std::size_t count, double log_prior, const sensor::BeamSet& beams, bool best_place = false);
   // Moves a share of a probe's draws near the estimate; returns each draw's log importance weight.
   std::vector<double> drawNearEstimate(Hypothesis& h);
   void organise();  // split, merge, prune, normalise
