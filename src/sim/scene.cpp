@@ -112,6 +112,15 @@ Scene loadScene(const std::filesystem::path& yaml) {
     read(l, "random_rate", scene.laser.random_rate, file);
     read(l, "short_rate", scene.laser.short_rate, file);
     read(l, "short_lambda", scene.laser.short_lambda, file);
+    if (const YAML::Node m = l["mount"]) {  // [x, y, theta_deg]: the laser on the robot
+      if (!m.IsSequence() || m.size() != 3)
+        throw Error("expected [x, y, theta_deg]", file, static_cast<std::size_t>(m.Mark().line + 1), "laser.mount");
+      try {
+        scene.laser.T_base_laser = Pose2(m[0].as<double>(), m[1].as<double>(), deg2rad(m[2].as<double>()));
+      } catch (const YAML::Exception&) {
+        throw Error("expected [x, y, theta_deg]", file, static_cast<std::size_t>(m.Mark().line + 1), "laser.mount");
+      }
+    }
   }
 
   const YAML::Node t = root["trajectory"];
