@@ -229,6 +229,33 @@ TEST(Scene, BadScenesGiveClearErrors) {
   fs::remove_all(dir);
 }
 
+TEST(Scene, ALaserMountPutsTheLaserOffTheTurningAxis) {
+  const fs::path dir = fs::temp_directory_path() / "glassmap_test_scene_mount";
+  fs::create_directories(dir);
+  fs::copy_file(kMaps / "paper-corridor/floorplan.geojson", dir / "floorplan.geojson",
+                fs::copy_options::overwrite_existing);
+  const std::string head = "name: m\nfloorplan: floorplan.geojson\ntrajectory: {waypoints: [[1, 1], [5, 1]]}\n";
+  std::ofstream(dir / "mount.yaml") << head << "laser: {preset: sick-lms200, mount: [0.3, -0.1, 90]}\n";
+  const sim::Scene s = sim::loadScene(dir / "mount.yaml");
+  EXPECT_TRUE(approxEqual(s.laser.T_base_laser, Pose2(0.3, -0.1, kPi / 2), 1e-12, 1e-12));
+  // The log's laser poses are the robot's poses times the mount; its odometry stays the robot's.
+  sim::SimOptions o;
+  o.duration_limit = 2.0;
+  const sim::SimResult r = sim::simulate(s, o);
+  ASSERT_FALSE(r.log.scans.empty());
+  EXPECT_TRUE(approxEqual(r.ground_truth.front().pose, r.log.scans.front().laser_pose, 0.1, 0.05));
+  EXPECT_NEAR(r.log.scans.front().laser_pose.theta - r.log.scans.front().odom_pose.theta, kPi / 2, 0.05);
+  std::ofstream(dir / "bad.yaml") << head << "laser: {preset: sick-lms200,\n  mount: [0.3, 0]}\n";
+  try {
+    sim::loadScene(dir / "bad.yaml");
+    ADD_FAILURE() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("laser.mount"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
 namespace {
 
 // A straight 26 m corridor, 4 m wide, driven along its axis at 0.5 m/s; a coarse laser at 10 Hz.
