@@ -335,12 +335,12 @@ void ParticleFilter::organise() {
   std::vector<Hypothesis> kept;
   for (Hypothesis& h : hyps_) {
     const bool is_top = h.log_mass == top;
-    // A broad probe is not judged by its mass until it has gathered into places (split): its
-    // first scans pay for the whole floor it samples.
     // A probe's place that has not won within its life is dropped, unless it still holds a doubt
     // that counts against convergence (converged_doubt): a look-alike place the scans never told
     // apart from the estimate (a symmetric corridor) stays a rival, and the answer unsure.
     const bool doubt = !h.broad && h.log_mass >= top + std::log(opt_.converged_doubt);
+    // A broad probe is not judged by its mass until it has gathered into places (split): its
+    // first scans pay for the whole floor it samples.
     const bool dead = h.particles.empty() || (!h.broad && h.log_mass < top - opt_.prune_nats) ||
                       (h.probe && !is_top && !doubt && travelled_ - h.born_m > opt_.probe_life_m) ||
                       (kept.size() >= static_cast<std::size_t>(opt_.max_hypotheses) && h.id != tracked_id);

@@ -2,6 +2,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -43,11 +44,9 @@ std::vector<double> ParticleFilter::drawNearEstimate(Hypothesis& h) {
     const double d2 = (x.t - at.t).squaredNorm() / (sxy * sxy);
     const double a = angleDiff(x.theta, at.theta) / sth;
     const double log_local = log_norm - 0.5 * (d2 + a * a);
-    // log(uniform / ((1 - share) uniform + share local))
-    const double hi = std::max(std::log1p(-share) + log_uniform, std::log(share) + log_local);
-    log_iw[i] =
-        log_uniform -
-        (hi + std::log(std::exp(std::log1p(-share) + log_uniform - hi) + std::exp(std::log(share) + log_local - hi)));
+    // uniform / ((1 - share) uniform + share local)
+    const std::array<double, 2> terms{std::log1p(-share), std::log(share) + log_local - log_uniform};
+    log_iw[i] = -detail::logSumExp(terms);
   }
   return log_iw;
 }
