@@ -129,13 +129,12 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   for (const Tally& t : tallies) {
     stats.surface_readings += t.surface;
     stats.spurious_readings += t.spurious;
-  }
-  for (const Tally& t : tallies)
     for (std::size_t c = 0; c < cells.size(); ++c) {
       pass[c] += t.pass[c];
       stop[c] += t.stop[c];
       own[c] += t.own[c];
     }
+  }
 
   // A pane lets light through somewhere along it: cells too thinly seen to decide alone (the MRF
   // carries a label along a line of cells few beams reached) take the verdict of their pane, its
