@@ -133,6 +133,11 @@ void run(MapArgs& args) {
     if (use_mrf) std::printf("%-22s %zu cells changed\n", "mrf", refined.changed);
     if (options.prune_unfitted_glass)
       std::printf("%-22s %zu glass cells off every glass segment relabelled\n", "pane fit", result.pruned_glass);
+    if (options.scan_fit.enabled && result.has_floorplan)
+      std::printf(
+          "%-22s %zu of %zu segments moved (mean %.3f m); returns within %.2f m of their segment %.1f%% -> %.1f%%\n",
+          "walls onto returns", result.scan_fit.moved, result.scan_fit.segments, result.scan_fit.mean_shift,
+          options.scan_fit.band, 100.0 * result.scan_fit.explained_before, 100.0 * result.scan_fit.explained_after);
     if (options.sparse_panes)
       std::printf(
           "%-22s %zu found, %.1f m (%zu runs of %zu weak returns tested; rejected: %zu chance, %zu opaque, "
@@ -201,6 +206,11 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_flag("!--keep-unfitted-glass", args->options.prune_unfitted_glass,
                 "keep glass cells that no fitted glass segment explains: by default they take their best\n"
                 "non-glass label (people walking by leave arcs of cells that each look like glass)");
+  cmd->add_flag("!--no-scan-fit", args->options.scan_fit.enabled,
+                "keep the walls where the cells draw them: by default each wall and clutter segment of the\n"
+                "floorplan moves along its normal (its direction kept) onto the densest 0.1 m wide band of the\n"
+                "returns under 8 m nearest to it (within 0.2 m), when that band holds 2% more of them than the one\n"
+                "about the line as drawn and no fewer lie within 0.1 m; corners, T junctions and doors follow");
   cmd->add_flag("--sparse-panes,!--no-sparse-panes", args->options.sparse_panes,
                 "look for panes too faint for the cell classifiers (a laser whose glass returns rarely, only\n"
                 "near the normal; on by default, --no-sparse-panes skips it): returns from cells most beams\n"

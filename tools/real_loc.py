@@ -9,7 +9,8 @@ runs from the first corrected pose. The corrected poses are the truth (ATE over 
 and option set, and a Markdown table; writes OUT/results.json.
 
 Usage: tools/real_loc.py [--glassmap build/tools/glassmap] [--out out/real_loc]
-                         [--variants perfect,drift] [--options "default=;no-inject=--no-inject"] [--check 0.2]
+                         [--variants perfect,drift] [--options "default=;no-inject=--no-inject"] [--seeds 1,2,3]
+                         [--check 0.2 [--max-lost N]]
                          [log ...]
 """
 import argparse
@@ -126,10 +127,15 @@ def main():
     ap.add_argument("--walls-only", action="store_true",
                     help="localize in the building alone (localize --walls-only: the plan without its CLUTTER "
                          "layer, as a building drawing has no furniture)")
+    ap.add_argument("--seeds", default="",
+                    help="comma-separated filter seeds: each option set runs once per seed (named sN, or NAME-sN)")
     ap.add_argument("logs", nargs="*", default=LOGS)
     a = ap.parse_args()
     gm = a.glassmap
     option_sets = [o.split("=", 1) for o in a.options.split(";") if o]
+    if a.seeds:
+        option_sets = [(f"s{s}" if n == "default" else f"{n}-s{s}", f"{extra} --seed {s}".strip())
+                       for n, extra in option_sets for s in a.seeds.split(",") if s]
     results = []
     for name in a.logs:
         src = os.path.join(DATA, f"{name}-corrected.log.gz")

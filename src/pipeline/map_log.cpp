@@ -93,6 +93,9 @@ MapResult mapOnce(const LaserLog& log, const MapOptions& options, const Progress
     out.has_floorplan = true;
     out.seconds.vectorize = out.floorplan.stats.seconds;
     report("vectorize", 1.0);
+    // The walls where the returns put them (the cells draw them up to half a cell off).
+    step(options.scan_fit.enabled, "scan fit", out.seconds.scan_fit,
+         [&] { out.scan_fit = vector::fitToScans(out.floorplan, log, mapping.beams, options.scan_fit); });
   }
   if (options.prune_unfitted_glass)
     out.pruned_glass = vector::pruneUnfittedGlass(out.evidence, out.floorplan.map, options.prune_tolerance);
@@ -238,6 +241,8 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
       out.floorplan = {};
       out.has_floorplan = false;
       out.seconds.vectorize = 0.0;
+      out.seconds.scan_fit = 0.0;
+      out.scan_fit = {};
     }
     out.calibrated = calibrated;
     out.profile = profile;

@@ -90,7 +90,8 @@ TEST(Pipeline, IsTheChainOfItsStagesInOrder) {
   if (defaults.sparse_panes) glass::findSparsePanes(log, defaults.mapping.beams, defaults.sparse, m.evidence);
   glass::relabelOpaqueGlass(log, defaults.mapping.beams, defaults.opaque, m.evidence);
   glass::suppressMirrorPhantoms(log, defaults.mapping.beams, defaults.phantom, m.evidence);
-  const vector::VectorizeResult v = vector::vectorize(vector::toLabelGrid(m.evidence), defaults.vectorize);
+  vector::VectorizeResult v = vector::vectorize(vector::toLabelGrid(m.evidence), defaults.vectorize);
+  vector::fitToScans(v, log, defaults.mapping.beams, defaults.scan_fit);
   const std::size_t pruned = vector::pruneUnfittedGlass(m.evidence, v.map, defaults.prune_tolerance);
   EXPECT_EQ(r.evidence.label, m.evidence.label);
   EXPECT_EQ(r.pruned_glass, pruned);

@@ -20,6 +20,7 @@
 #include "glassmap/glass/sparse_panes.hpp"
 #include "glassmap/mrf/refine.hpp"
 #include "glassmap/sensor/calibrate.hpp"
+#include "glassmap/vector/scan_fit.hpp"
 #include "glassmap/vector/vectorize.hpp"
 
 namespace glassmap::pipeline {
@@ -50,6 +51,9 @@ struct MapOptions {
                                      ///< label (fits the floorplan even when fit_floorplan is off)
   double prune_tolerance = 0.10;     ///< ... farther than this from every glass segment [m]
   vector::VectorizeOptions vectorize;
+  /// The floorplan's walls and clutter moved onto the log's returns (vector/scan_fit.hpp); off
+  /// with scan_fit.enabled = false.
+  vector::ScanFitOptions scan_fit;
   /// The laser's profile. Unset and `calibrate` on (the default): a first pass maps the log with
   /// the default thresholds, the profile is fitted against that pass's floorplan
   /// (sensor/calibrate.hpp), and the map is made again with the thresholds the profile sets
@@ -83,6 +87,7 @@ struct MapTimes {
   double mrf = 0.0, sparse = 0.0, opaque = 0.0;       ///< later steps (0 when skipped)
   double phantoms = 0.0;                              ///< mirror phantoms (0 when skipped)
   double vectorize = 0.0;                             ///< vectorization (0 when skipped)
+  double scan_fit = 0.0;                              ///< walls onto the returns (0 when skipped)
   double calibration = 0.0;                           ///< first passes and profile fits (0 when skipped)
   double total = 0.0;                                 ///< the whole call
 };
@@ -98,6 +103,7 @@ struct MapResult {
   vector::VectorizeResult floorplan;      ///< the fitted floorplan (empty unless fitted)
   bool has_floorplan = false;             ///< the floorplan was fitted
   std::size_t pruned_glass = 0;           ///< glass cells the pane fit relabelled
+  vector::ScanFitStats scan_fit;          ///< the walls moved onto the returns (zero when skipped)
   SensorProfile profile;                  ///< the profile the final pass used
   bool calibrated = false;                ///< profile was fitted from this log
   sensor::CalibrationResult calibration;  ///< the last fit (when calibrated)

@@ -1,0 +1,261 @@
+#include "glassmap/vector/scan_fit.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace glassmap::vector {
+namespace {
+
+// Offsets are summed as integers of this many metres: sums over threads in any order agree.
+constexpr double kUnit = 1e-5;
+
+Vec2 normalOf(const MapSegment& s) {
+  const Vec2 u = s.direction();
+  return {-u.y(), u.x()};
+}
+
+// Segments bucketed by the square cells their box (grown by `reach`) covers.
+class SegmentIndex {
+ public:
+  SegmentIndex(const std::vector<const MapSegment*>& segs, double reach) {
+    Eigen::AlignedBox2d box;
+    for (const MapSegment* s : segs) box.extend(s->a), box.extend(s->b);
+    if (box.isEmpty()) return;
+    origin_ = box.min() - Vec2::Constant(reach);
+    const Vec2 size = box.sizes() + Vec2::Constant(2.0 * reach);
+    // Cells of 0.5 m, coarser on huge extents (a stray segment far away) so the index stays small.
+    cell_ = std::max(0.5, std::sqrt(size.x() * size.y() / 4e6));
+    nx_ = static_cast<std::size_t>(size.x() / cell_) + 1;
+    ny_ = static_cast<std::size_t>(size.y() / cell_) + 1;
+    cells_.resize(nx_ * ny_);
+    for (std::size_t k = 0; k < segs.size(); ++k) {
+      const Vec2 lo = segs[k]->a.cwiseMin(segs[k]->b) - Vec2::Constant(reach);
+      const Vec2 hi = segs[k]->a.cwiseMax(segs[k]->b) + Vec2::Constant(reach);
+      const auto [x0, y0] = cellOf(lo);
+      const auto [x1, y1] = cellOf(hi);
+      for (std::size_t y = y0; y <= y1; ++y)
+        for (std::size_t x = x0; x <= x1; ++x) cells_[y * nx_ + x].push_back(static_cast<std::uint32_t>(k));
+    }
+  }
+  // The segments whose grown box may hold p (none outside the index).
+  const std::vector<std::uint32_t>* near(const Vec2& p) const {
+    if (cells_.empty()) return nullptr;
+    const Vec2 q = (p - origin_) / cell_;
+    if (!(q.x() >= 0 && q.y() >= 0 && q.x() < static_cast<double>(nx_) && q.y() < static_cast<double>(ny_)))
+      return nullptr;
+    return &cells_[static_cast<std::size_t>(q.y()) * nx_ + static_cast<std::size_t>(q.x())];
+  }
+
+ private:
+  std::pair<std::size_t, std::size_t> cellOf(const Vec2& p) const {
+    const Vec2 q = ((p - origin_) / cell_).cwiseMax(0.0);
+    return {std::min(static_cast<std::size_t>(q.x()), nx_ - 1), std::min(static_cast<std::size_t>(q.y()), ny_ - 1)};
+  }
+  Vec2 origin_ = Vec2::Zero();
+  double cell_ = 0.5;
+  std::size_t nx_ = 0, ny_ = 0;
+  std::vector<std::vector<std::uint32_t>> cells_;
+};
+
+// Per movable segment: its returns' signed offsets from its line, binned, with exact sums.
+struct Tally {
+  std::vector<std::uint32_t> count;  // [segment * bins + bin]
+  std::vector<std::int64_t> sum;     // offsets in kUnit
+};
+
+// The line's shift onto its returns (0: it stays), from one segment's bins.
+double bestShift(const std::uint32_t* count, const std::int64_t* sum, std::size_t bins, const ScanFitOptions& o,
+                 std::size_t& total, std::size_t& before, std::size_t& after) {
+  const int half = static_cast<int>(bins / 2);
+  auto offset = [&](int k) { return (k - half) * o.bin; };
+  auto within = [&](double centre, double width) {
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < bins; ++k)
+      if (std::abs(offset(static_cast<int>(k)) - centre) <= width + 1e-12) n += count[k];
+    return n;
+  };
+  total = 0;
+  for (std::size_t k = 0; k < bins; ++k) total += count[k];
+  const std::size_t inside = within(0.0, o.tolerance);
+  before = after = within(0.0, o.band);
+  if (total < std::max<std::size_t>(o.min_returns, 1)) return 0.0;
+  // The densest band: centres on the bins, the band inside the evidence's reach.
+  int best = half;
+  std::size_t best_n = within(0.0, o.band);
+  for (int k = 0; k < static_cast<int>(bins); ++k) {
+    const double c = offset(k);
+    if (std::abs(c) + o.band > o.reach + 1e-12) continue;
+    const std::size_t n = within(c, o.band);
+    if (n > best_n || (n == best_n && std::abs(k - half) < std::abs(best - half))) best = k, best_n = n;
+  }
+  // Its returns' mean offset.
+  std::int64_t s = 0;
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < bins; ++k)
+    if (std::abs(offset(static_cast<int>(k)) - offset(best)) <= o.band + 1e-12) s += sum[k], n += count[k];
+  if (n == 0) return 0.0;
+  // To 0.1 mm: finer is no information, and a log read with float32 angles (a ROS bag) moves the
+  // returns' mean in the 8th digit.
+  const double shift = 1e-4 * std::round(kUnit * static_cast<double>(s) / static_cast<double>(n) / 1e-4);
+  // Moved when its band then holds clearly more of the returns (a wall a few centimetres off its
+  // face keeps them all within a coarse tolerance, yet a range model of 1-3 cm misses them), and
+  // no fewer lie within the tolerance.
+  const std::size_t banded = within(shift, o.band);
+  const double gain = static_cast<double>(banded) - static_cast<double>(before);
+  if (gain < o.min_gain * static_cast<double>(total) || within(shift, o.tolerance) < inside) return 0.0;
+  after = banded;
+  return shift;
+}
+
+// Where the lines through (a, b) and (c, d) cross; false when nearly parallel.
+bool crossing(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d, Vec2& out) {
+  const Vec2 r = b - a, s = d - c;
+  const double den = r.x() * s.y() - r.y() * s.x();
+  if (std::abs(den) < 1e-12 * r.norm() * s.norm()) return false;
+  const Vec2 q = c - a;
+  out = a + ((q.x() * s.y() - q.y() * s.x()) / den) * r;
+  return true;
+}
+
+}  // namespace
+
+ScanFitStats fitToScans(VectorizeResult& plan, const LaserLog& log, const grid::BeamOptions& beams,
+                        const ScanFitOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ScanFitStats stats;
+  if (!o.enabled || !(o.bin > 0) || !(o.reach > 0)) return stats;
+  std::vector<MapSegment*> segs;
+  for (VectorMap* m : {&plan.map, &plan.extras.clutter})
+    for (MapSegment& s : m->segments)
+      if (s.length() > 0) segs.push_back(&s);
+  if (segs.empty()) return stats;
+  const std::vector<const MapSegment*> view(segs.begin(), segs.end());
+  const SegmentIndex index(view, o.reach);
+  const std::size_t n = segs.size();
+  const std::size_t bins = 2 * static_cast<std::size_t>(std::ceil(o.reach / o.bin - 1e-9)) + 1;
+  const int half = static_cast<int>(bins / 2);
+  std::vector<Vec2> normal(n);
+  for (std::size_t k = 0; k < n; ++k) normal[k] = normalOf(*segs[k]);
+
+  // Each return to its nearest segment within reach; a movable one's tally takes its offset.
+  tbb::enumerable_thread_specific<Tally> tallies([&] {
+    return Tally{std::vector<std::uint32_t>(n * bins, 0), std::vector<std::int64_t>(n * bins, 0)};
+  });
+  forEachScanBlock(log, [&](std::span<const LaserScan> block, std::size_t) {
+    tbb::parallel_for(std::size_t{0}, block.size(), [&](std::size_t i) {
+      Tally& t = tallies.local();
+      grid::forEachBeam(
+          block[i], beams,
+          [&](const grid::Beam& beam) {
+            if (!(beam.range < o.max_range)) return;
+            const auto* cands = index.near(beam.to);
+            if (!cands) return;
+            double best = o.reach;
+            std::uint32_t which = std::numeric_limits<std::uint32_t>::max();
+            for (std::uint32_t k : *cands) {
+              const double d = segs[k]->distanceTo(beam.to);
+              if (d < best || (d == best && k < which)) best = d, which = k;
+            }
+            if (which == std::numeric_limits<std::uint32_t>::max() || segs[which]->material == Material::Glass) return;
+            const MapSegment& s = *segs[which];
+            const double along = (beam.to - s.a).dot(s.direction());
+            if (along < 0 || along > s.length()) return;  // beyond an end: not evidence of its line
+            const double d = (beam.to - s.a).dot(normal[which]);
+            const int k = std::clamp(static_cast<int>(std::lround(d / o.bin)) + half, 0, static_cast<int>(bins) - 1);
+            t.count[which * bins + static_cast<std::size_t>(k)] += 1;
+            t.sum[which * bins + static_cast<std::size_t>(k)] += std::llround(d / kUnit);
+          },
+          grid::BeamFilter::Hit);
+    });
+  });
+  Tally all{std::vector<std::uint32_t>(n * bins, 0), std::vector<std::int64_t>(n * bins, 0)};
+  for (const Tally& t : tallies)
+    for (std::size_t k = 0; k < n * bins; ++k) all.count[k] += t.count[k], all.sum[k] += t.sum[k];
+
+  // The shifts.
+  std::vector<double> shift(n, 0.0);
+  std::size_t before_all = 0, after_all = 0;
+  double moved_sum = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (segs[k]->material == Material::Glass) continue;
+    std::size_t total = 0, before = 0, after = 0;
+    shift[k] = bestShift(&all.count[k * bins], &all.sum[k * bins], bins, o, total, before, after);
+    stats.returns += total;
+    before_all += before;
+    after_all += after;
+    if (total >= std::max<std::size_t>(o.min_returns, 1)) ++stats.segments;
+    if (shift[k] != 0.0) ++stats.moved, moved_sum += std::abs(shift[k]);
+  }
+  if (stats.returns > 0) {
+    stats.explained_before = static_cast<double>(before_all) / static_cast<double>(stats.returns);
+    stats.explained_after = static_cast<double>(after_all) / static_cast<double>(stats.returns);
+  }
+  if (stats.moved > 0) stats.mean_shift = moved_sum / static_cast<double>(stats.moved);
+
+  // Ends that met another segment's line (a corner, a T) before the move, and the doors' ends on
+  // a moved line, then the move.
+  struct Junction {
+    std::size_t seg, other;
+    bool end_b;
+  };
+  std::vector<Junction> junctions;
+  const double min_sin = std::sin(o.junction_angle_deg * kPi / 180.0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (const bool end_b : {false, true}) {
+      const Vec2& e = end_b ? segs[i]->b : segs[i]->a;
+      double best = o.junction;
+      std::size_t which = n;
+      for (std::size_t j = 0; j < n; ++j) {
+        if (j == i || (shift[i] == 0.0 && shift[j] == 0.0)) continue;
+        const MapSegment& s = *segs[j];
+        if (std::abs(segs[i]->direction().dot(normal[j])) < min_sin) continue;
+        const double off = std::abs((e - s.a).dot(normal[j]));
+        const double along = (e - s.a).dot(s.direction());
+        if (off <= best && along >= -o.junction && along <= s.length() + o.junction) best = off, which = j;
+      }
+      if (which < n) junctions.push_back({i, which, end_b});
+    }
+  std::vector<Vec2> door_move;
+  for (const DoorOpening& d : plan.extras.doors)
+    for (const Vec2& p : {d.a, d.b}) {
+      Vec2 move = Vec2::Zero();
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < n; ++k) {
+        if (shift[k] == 0.0 || std::abs((p - segs[k]->a).dot(normal[k])) > o.junction) continue;
+        const double d_end = segs[k]->distanceTo(p);
+        if (d_end < best) best = d_end, move = shift[k] * normal[k];
+      }
+      door_move.push_back(move);
+    }
+  for (std::size_t k = 0; k < n; ++k) {
+    segs[k]->a += shift[k] * normal[k];
+    segs[k]->b += shift[k] * normal[k];
+  }
+  for (const Junction& j : junctions) {
+    MapSegment& s = *segs[j.seg];
+    const MapSegment& other = *segs[j.other];
+    Vec2 x;
+    Vec2& e = j.end_b ? s.b : s.a;
+    if (!crossing(s.a, s.b, other.a, other.b, x) || (x - e).norm() > 2.0 * o.reach) continue;
+    const Vec2 rest = j.end_b ? s.a : s.b;  // the segment keeps its direction and some length
+    if ((j.end_b ? x - rest : rest - x).dot(s.direction()) <= 0.0) continue;
+    e = x;
+    ++stats.junctions;
+  }
+  std::size_t m = 0;
+  for (DoorOpening& d : plan.extras.doors) {
+    d.a += door_move[m++];
+    d.b += door_move[m++];
+  }
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return stats;
+}
+
+}  // namespace glassmap::vector
