@@ -141,7 +141,8 @@ bool sameThresholds(const MapOptions& a, const MapOptions& b) {
          a.phantom.glass_margin == b.phantom.glass_margin && a.phantom.block_margin == b.phantom.block_margin &&
          a.vectorize.noise_floor == b.vectorize.noise_floor &&
          a.vectorize.glass.max_distance == b.vectorize.glass.max_distance &&
-         a.vectorize.wall.max_distance == b.vectorize.wall.max_distance;
+         a.vectorize.wall.max_distance == b.vectorize.wall.max_distance && a.scan_fit.band == b.scan_fit.band &&
+         a.scan_fit.reach == b.scan_fit.reach;
 }
 
 void countSegments(const VectorMap& plan, std::size_t& walls, std::size_t& panes) {
@@ -198,6 +199,11 @@ bool applyProfile(MapOptions& o, const SensorProfile& p) {
       std::max(defaults.vectorize.glass.max_distance, 2.5 * sigma));
   set(o.vectorize.wall.max_distance, defaults.vectorize.wall.max_distance,
       std::max(defaults.vectorize.wall.max_distance, 2.5 * sigma));
+  // The walls onto the returns: a wall's returns within 2 sigma of its band's centre, and as far
+  // to move as with a precise laser beyond it.
+  set(o.scan_fit.band, defaults.scan_fit.band, std::max(defaults.scan_fit.band, 2.0 * sigma));
+  set(o.scan_fit.reach, defaults.scan_fit.reach,
+      std::max(defaults.scan_fit.reach, o.scan_fit.band + defaults.scan_fit.reach - defaults.scan_fit.band));
   return changed;
 }
 

@@ -198,6 +198,8 @@ TEST(Pipeline, ApplyProfileKeepsWhatTheCallerSet) {
   EXPECT_DOUBLE_EQ(o.mapping.direct.direct_floor, 0.1);
   EXPECT_NEAR(o.mapping.beams.miss_margin, 0.24, 1e-12);
   EXPECT_NEAR(o.vectorize.noise_floor, 0.08 / o.mapping.resolution, 1e-12);
+  EXPECT_NEAR(o.scan_fit.band, 0.16, 1e-12);   // 2 sigma
+  EXPECT_NEAR(o.scan_fit.reach, 0.31, 1e-12);  // the band and the 0.15 m a precise laser's walls may move
   // A precise laser keeps the defaults' margins.
   MapOptions precise;
   SensorProfile q;
@@ -205,6 +207,8 @@ TEST(Pipeline, ApplyProfileKeepsWhatTheCallerSet) {
   applyProfile(precise, q);
   EXPECT_DOUBLE_EQ(precise.mapping.beams.miss_margin, MapOptions{}.mapping.beams.miss_margin);
   EXPECT_DOUBLE_EQ(precise.vectorize.noise_floor, MapOptions{}.vectorize.noise_floor);
+  EXPECT_DOUBLE_EQ(precise.scan_fit.band, MapOptions{}.scan_fit.band);
+  EXPECT_DOUBLE_EQ(precise.scan_fit.reach, MapOptions{}.scan_fit.reach);
 }
 
 TEST(Pipeline, MapFilesReadBackAsTheResult) {

@@ -74,8 +74,9 @@ struct MapOptions {
 
 /// Sets every sensor-dependent threshold of the mapping steps from a profile, in the units of
 /// the grid (options.mapping.resolution): the direct classifier's lobe (peak, sigma, floor; only
-/// with options.profile_lobe), the miss margin and sigmoid margin (range noise), the sparse-pane and phantom tests' margins and the vectorizer's
-/// noise floor and line distance. Values are never set below the defaults tuned for a 1-2 cm
+/// with options.profile_lobe), the miss margin and sigmoid margin (range noise), the sparse-pane,
+/// opaque-glass and phantom tests' margins, the vectorizer's noise floor and line distance, and the
+/// band and reach of the walls' fit to the returns. Values are never set below the defaults tuned for a 1-2 cm
 /// laser, so a precise laser keeps today's behaviour; a field the caller changed from its
 /// default (an explicit command-line option) is kept as given.
 /// Returns whether any threshold changed.
