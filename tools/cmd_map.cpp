@@ -209,9 +209,9 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_flag("!--no-scan-fit", args->options.scan_fit.enabled,
                 "keep the walls where the cells draw them: by default each wall and clutter segment of the\n"
                 "floorplan moves along its normal (its direction kept) onto the densest 0.1 m wide band of the\n"
-                "returns under 8 m nearest to it (within 0.2 m; both wider for a laser noisier than 2.5 cm), when that "
-                "band holds 2% more of them than the one\n"
-                "about the line as drawn and no fewer lie within 0.1 m; corners, T junctions and doors follow");
+                "returns under 8 m nearest to it (within 0.2 m; both wider for a laser noisier than 2.5 cm),\n"
+                "when that band holds 2% more of them than the one about the line as drawn and no fewer lie\n"
+                "within 0.1 m; corners, T junctions and doors follow");
   cmd->add_flag("--sparse-panes,!--no-sparse-panes", args->options.sparse_panes,
                 "look for panes too faint for the cell classifiers (a laser whose glass returns rarely, only\n"
                 "near the normal; on by default, --no-sparse-panes skips it): returns from cells most beams\n"
