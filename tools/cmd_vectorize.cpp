@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "cli_common.hpp"
@@ -12,9 +13,11 @@
 #include "glassmap/core/atomic_file.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/io/labels_raster.hpp"
+#include "glassmap/io/log.hpp"
 #include "glassmap/io/ros_map.hpp"
 #include "glassmap/vector/export.hpp"
 #include "glassmap/vector/from_occupancy.hpp"
+#include "glassmap/vector/scan_fit.hpp"
 #include "glassmap/vector/vectorize.hpp"
 
 namespace glassmap {
@@ -25,6 +28,8 @@ namespace fs = std::filesystem;
 struct VectorizeArgs {
   std::string labels, out, formats = "gpkg,geojson,dxf,svg,png", json;
   std::string input = "auto";
+  std::string log;  // --log: the walls moved onto its returns
+  LogReadOptions read;
   double occupied_thresh = 0.65, free_thresh = 0.196;
   vector::OccupancyOptions occupancy;
   bool no_regularize = false, quiet = false;
@@ -94,6 +99,9 @@ void run(const VectorizeArgs& args) {
   const std::optional<FloorplanGeoref> georef = cli::georefOf(args.georef);
   const Input input = readInput(args);
   const vector::LabelGrid& grid = input.grid;
+  // Read before anything is written: a bad log leaves no output behind.
+  std::optional<LaserLog> log;
+  if (!args.log.empty()) log = cli::readLogReporting(args.log, args.read, args.quiet);
   vector::VectorizeOptions options = args.options;
   options.regularize = !args.no_regularize;
   vector::VectorizeResult r = vector::vectorize(grid, options);
@@ -105,6 +113,14 @@ void run(const VectorizeArgs& args) {
   for (DoorOpening& d : r.extras.doors) d.a = input.origin * d.a, d.b = input.origin * d.b;
   for (RoomPolygon& room : r.extras.rooms)
     for (Vec2& p : room.ring) p = input.origin * p;
+  // With the log the map was made from: the walls where its returns put them (as `map` does).
+  vector::ScanFitStats fit;
+  if (log) {
+    fit = vector::fitToScans(r, *log, grid::BeamOptions{});
+    if (fit.returns == 0)
+      std::cerr << "glassmap: warning: " << args.log
+                << ": no return lies within 0.2 m of a wall: are the log's poses in the map's frame?\n";
+  }
   const auto written = vector::writeFloorplanSet(stem, r.map, formats, r.extras, georef ? &*georef : nullptr);
 
   const auto& s = r.stats;
@@ -134,6 +150,15 @@ void run(const VectorizeArgs& args) {
       {"clutter_segments", r.extras.clutter.segments.size()},
       {"doors", r.extras.doors.size()},
       {"rooms", r.extras.rooms.size()},
+      {"scan_fit",
+       {{"log", args.log},
+        {"returns", fit.returns},
+        {"segments", fit.segments},
+        {"moved", fit.moved},
+        {"mean_shift", fit.mean_shift},
+        {"explained_before", fit.explained_before},
+        {"explained_after", fit.explained_after},
+        {"junctions", fit.junctions}}},
       {"seconds", s.seconds}};
   if (!args.json.empty()) cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
@@ -153,6 +178,11 @@ void run(const VectorizeArgs& args) {
   std::printf("%-22s %zu lines, %zu gaps bridged, %zu openings, %zu doors, %zu rooms, %zu clutter segments\n",
               "structure", s.lines, s.bridged, s.openings, r.extras.doors.size(), r.extras.rooms.size(),
               r.extras.clutter.segments.size());
+  if (!args.log.empty())
+    std::printf(
+        "%-22s %zu of %zu segments moved (mean %.3f m); returns within 0.05 m of their segment %.1f%% -> %.1f%%\n",
+        "walls onto returns", fit.moved, fit.segments, fit.mean_shift, 100.0 * fit.explained_before,
+        100.0 * fit.explained_after);
   if (georef) std::printf("%-22s %s\n", "georeference", cli::georefSummary(*georef).c_str());
   std::printf("%-22s %.3f s\n", "time", s.seconds);
   for (const auto& p : written) std::printf("%-22s %s\n", "wrote", p.string().c_str());
@@ -224,6 +254,12 @@ const cli::Registrar reg(50, [](CLI::App& app) {
   cmd->add_option("--min-line-support", args->options.structure.min_line_support,
                   "structure: a wall line whose pieces sum to less is clutter unless it joins walls [m]")
       ->capture_default_str();
+  cmd->add_option("--log", args->log,
+                  "the laser log the map was made from (CARMEN or ROS 2 bag, its poses in the map's frame): each\n"
+                  "wall and clutter segment then moves along its normal onto the densest 0.1 m wide band of the\n"
+                  "log's returns nearest to it, as `map` does (corners, T junctions and doors follow)")
+      ->check(CLI::ExistingPath);
+  cli::addLogOptions(*cmd, args->read);
   cli::addGeorefOptions(*cmd, args->georef);
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing");
