@@ -92,6 +92,14 @@ bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) == 1; }
 
 std::size_t peakMemoryBytes() { return pipeline::peakMemoryBytes(); }
 
+std::string scanFitSummary(const vector::ScanFitStats& s) {
+  char line[160];
+  std::snprintf(line, sizeof line,
+                "%zu of %zu segments moved (mean %.3f m); returns within %.2f m of their segment %.1f%% -> %.1f%%",
+                s.moved, s.segments, s.mean_shift, s.band, 100.0 * s.explained_before, 100.0 * s.explained_after);
+  return line;
+}
+
 std::string profileSummary(const SensorProfile& p) {
   char rel[48] = "";
   if (p.range_sigma_rel.value > 0)

@@ -134,10 +134,7 @@ void run(MapArgs& args) {
     if (options.prune_unfitted_glass)
       std::printf("%-22s %zu glass cells off every glass segment relabelled\n", "pane fit", result.pruned_glass);
     if (options.scan_fit.enabled && result.has_floorplan)
-      std::printf(
-          "%-22s %zu of %zu segments moved (mean %.3f m); returns within %.2f m of their segment %.1f%% -> %.1f%%\n",
-          "walls onto returns", result.scan_fit.moved, result.scan_fit.segments, result.scan_fit.mean_shift,
-          options.scan_fit.band, 100.0 * result.scan_fit.explained_before, 100.0 * result.scan_fit.explained_after);
+      std::printf("%-22s %s\n", "walls onto returns", cli::scanFitSummary(result.scan_fit).c_str());
     if (options.sparse_panes)
       std::printf(
           "%-22s %zu found, %.1f m (%zu runs of %zu weak returns tested; rejected: %zu chance, %zu opaque, "

@@ -15,6 +15,7 @@
 #include "glassmap/io/labels_raster.hpp"
 #include "glassmap/io/log.hpp"
 #include "glassmap/io/ros_map.hpp"
+#include "glassmap/pipeline/reports.hpp"
 #include "glassmap/vector/export.hpp"
 #include "glassmap/vector/from_occupancy.hpp"
 #include "glassmap/vector/scan_fit.hpp"
@@ -150,15 +151,8 @@ void run(const VectorizeArgs& args) {
       {"clutter_segments", r.extras.clutter.segments.size()},
       {"doors", r.extras.doors.size()},
       {"rooms", r.extras.rooms.size()},
-      {"scan_fit",
-       {{"log", args.log},
-        {"returns", fit.returns},
-        {"segments", fit.segments},
-        {"moved", fit.moved},
-        {"mean_shift", fit.mean_shift},
-        {"explained_before", fit.explained_before},
-        {"explained_after", fit.explained_after},
-        {"junctions", fit.junctions}}},
+      {"scan_fit", pipeline::scanFitJson(fit)},
+      {"scan_fit_log", args.log},
       {"seconds", s.seconds}};
   if (!args.json.empty()) cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
@@ -178,11 +172,7 @@ void run(const VectorizeArgs& args) {
   std::printf("%-22s %zu lines, %zu gaps bridged, %zu openings, %zu doors, %zu rooms, %zu clutter segments\n",
               "structure", s.lines, s.bridged, s.openings, r.extras.doors.size(), r.extras.rooms.size(),
               r.extras.clutter.segments.size());
-  if (!args.log.empty())
-    std::printf(
-        "%-22s %zu of %zu segments moved (mean %.3f m); returns within 0.05 m of their segment %.1f%% -> %.1f%%\n",
-        "walls onto returns", fit.moved, fit.segments, fit.mean_shift, 100.0 * fit.explained_before,
-        100.0 * fit.explained_after);
+  if (!args.log.empty()) std::printf("%-22s %s\n", "walls onto returns", cli::scanFitSummary(fit).c_str());
   if (georef) std::printf("%-22s %s\n", "georeference", cli::georefSummary(*georef).c_str());
   std::printf("%-22s %.3f s\n", "time", s.seconds);
   for (const auto& p : written) std::printf("%-22s %s\n", "wrote", p.string().c_str());

@@ -263,14 +263,7 @@ nlohmann::json mapStatsJson(const MapResult& result, const MapOptions& options, 
                         {"folded_beams", phantom.folded_beams},
                         {"cells_cleared", phantom.cells_cleared}}},
                       {"glass_cells_off_segments", result.pruned_glass},
-                      {"scan_fit",
-                       {{"returns", result.scan_fit.returns},
-                        {"segments", result.scan_fit.segments},
-                        {"moved", result.scan_fit.moved},
-                        {"mean_shift", result.scan_fit.mean_shift},
-                        {"explained_before", result.scan_fit.explained_before},
-                        {"explained_after", result.scan_fit.explained_after},
-                        {"junctions", result.scan_fit.junctions}}},
+                      {"scan_fit", scanFitJson(result.scan_fit)},
                       {"glass_segments", floorplan.map.count(Material::Glass)},
                       {"wall_segments", floorplan.map.count(Material::Wall)},
                       {"peak_memory_bytes", run.peak_memory_bytes},
@@ -303,6 +296,17 @@ nlohmann::json sensorParamsJson(const sensor::SensorParams& p) {
           {"direct_floor", p.direct_floor},
           {"normal_lambda_per_deg", p.lambda_normal},
           {"normal_floor", p.normal_floor}};
+}
+
+nlohmann::json scanFitJson(const vector::ScanFitStats& s) {
+  return {{"returns", s.returns},
+          {"segments", s.segments},
+          {"moved", s.moved},
+          {"mean_shift", s.mean_shift},
+          {"band", s.band},
+          {"explained_before", s.explained_before},
+          {"explained_after", s.explained_after},
+          {"junctions", s.junctions}};
 }
 
 nlohmann::json localizeSummaryJson(const LocalizeResult& result, const LocalizeOptions& options) {

@@ -130,6 +130,7 @@ ScanFitStats fitToScans(VectorizeResult& plan, const LaserLog& log, const grid::
                         const ScanFitOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   ScanFitStats stats;
+  stats.band = o.band;
   if (!o.enabled || !(o.bin > 0) || !(o.reach > 0)) return stats;
   std::vector<MapSegment*> segs;
   for (VectorMap* m : {&plan.map, &plan.extras.clutter})

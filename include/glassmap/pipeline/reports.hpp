@@ -60,6 +60,10 @@ std::size_t peakMemoryBytes();
 /// A sensor model's parameters as JSON (mixture weights normalised).
 nlohmann::json sensorParamsJson(const sensor::SensorParams& params);
 
+/// What the walls' fit to the returns did (vector::fitToScans), as `stats.json` and `vectorize
+/// --json` write it.
+nlohmann::json scanFitJson(const vector::ScanFitStats& stats);
+
 /// The summary of a localization run (`glassmap localize --json`).
 nlohmann::json localizeSummaryJson(const LocalizeResult& result, const LocalizeOptions& options);
 

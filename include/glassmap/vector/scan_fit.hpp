@@ -38,6 +38,7 @@ struct ScanFitStats {
   std::size_t segments = 0;       ///< wall and clutter segments with enough returns to judge
   std::size_t moved = 0;          ///< of them, moved
   double mean_shift = 0.0;        ///< mean |shift| of the moved ones [m]
+  double band = 0.0;              ///< the band's half-width of the fit [m] ...
   double explained_before = 0.0;  ///< share of the assigned returns within `band` of their segment ...
   double explained_after = 0.0;   ///< ... before and after [-]
   std::size_t junctions = 0;      ///< segment ends re-joined to a moved line
