@@ -10,21 +10,18 @@
 #include <limits>
 #include <vector>
 
+#include "box_pairs.hpp"
+
 namespace glassmap::vector {
 namespace {
 
 // Offsets are summed as integers of this many metres: sums over threads in any order agree.
 constexpr double kUnit = 1e-5;
 
-Vec2 normalOf(const MapSegment& s) {
-  const Vec2 u = s.direction();
-  return {-u.y(), u.x()};
-}
-
 // Segments bucketed by the square cells their box (grown by `reach`) covers.
 class SegmentIndex {
  public:
-  SegmentIndex(const std::vector<const MapSegment*>& segs, double reach) {
+  SegmentIndex(const std::vector<MapSegment*>& segs, double reach) {
     Eigen::AlignedBox2d box;
     for (const MapSegment* s : segs) box.extend(s->a), box.extend(s->b);
     if (box.isEmpty()) return;
@@ -137,13 +134,18 @@ ScanFitStats fitToScans(VectorizeResult& plan, const LaserLog& log, const grid::
     for (MapSegment& s : m->segments)
       if (s.length() > 0) segs.push_back(&s);
   if (segs.empty()) return stats;
-  const std::vector<const MapSegment*> view(segs.begin(), segs.end());
-  const SegmentIndex index(view, o.reach);
+  const SegmentIndex index(segs, o.reach);
   const std::size_t n = segs.size();
   const std::size_t bins = 2 * static_cast<std::size_t>(std::ceil(o.reach / o.bin - 1e-9)) + 1;
   const int half = static_cast<int>(bins / 2);
-  std::vector<Vec2> normal(n);
-  for (std::size_t k = 0; k < n; ++k) normal[k] = normalOf(*segs[k]);
+  // Each segment's unit direction, normal and length, once (the loop over the returns needs them).
+  std::vector<Vec2> dir(n), normal(n);
+  std::vector<double> length(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    dir[k] = segs[k]->direction();
+    normal[k] = Vec2(-dir[k].y(), dir[k].x());
+    length[k] = segs[k]->length();
+  }
 
   // Each return to its nearest segment within reach; a movable one's tally takes its offset.
   tbb::enumerable_thread_specific<Tally> tallies([&] {
@@ -165,10 +167,10 @@ ScanFitStats fitToScans(VectorizeResult& plan, const LaserLog& log, const grid::
               if (d < best || (d == best && k < which)) best = d, which = k;
             }
             if (which == std::numeric_limits<std::uint32_t>::max() || segs[which]->material == Material::Glass) return;
-            const MapSegment& s = *segs[which];
-            const double along = (beam.to - s.a).dot(s.direction());
-            if (along < 0 || along > s.length()) return;  // beyond an end: not evidence of its line
-            const double d = (beam.to - s.a).dot(normal[which]);
+            const Vec2 q = beam.to - segs[which]->a;
+            const double along = q.dot(dir[which]);
+            if (along < 0 || along > length[which]) return;  // beyond an end: not evidence of its line
+            const double d = q.dot(normal[which]);
             const int k = std::clamp(static_cast<int>(std::lround(d / o.bin)) + half, 0, static_cast<int>(bins) - 1);
             t.count[which * bins + static_cast<std::size_t>(k)] += 1;
             t.sum[which * bins + static_cast<std::size_t>(k)] += std::llround(d / kUnit);
@@ -208,21 +210,35 @@ ScanFitStats fitToScans(VectorizeResult& plan, const LaserLog& log, const grid::
   };
   std::vector<Junction> junctions;
   const double min_sin = std::sin(o.junction_angle_deg * kPi / 180.0);
-  for (std::size_t i = 0; i < n; ++i)
-    for (const bool end_b : {false, true}) {
-      const Vec2& e = end_b ? segs[i]->b : segs[i]->a;
+  {
+    // Candidates: the ends inside a segment's box grown by the tolerance.
+    std::vector<Vec2> ends(2 * n);
+    std::vector<Eigen::AlignedBox2d> boxes(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      ends[2 * k] = segs[k]->a;
+      ends[2 * k + 1] = segs[k]->b;
+      boxes[k].extend(segs[k]->a.cwiseMin(segs[k]->b) - Vec2::Constant(o.junction));
+      boxes[k].extend(segs[k]->a.cwiseMax(segs[k]->b) + Vec2::Constant(o.junction));
+    }
+    const auto pairs = detail::pointsInBoxes(ends, boxes);  // sorted by end, then by segment
+    for (std::size_t first = 0; first < pairs.size();) {
+      const std::size_t e = pairs[first].first, i = e / 2;
+      std::size_t last = first;
+      while (last < pairs.size() && pairs[last].first == e) ++last;
       double best = o.junction;
       std::size_t which = n;
-      for (std::size_t j = 0; j < n; ++j) {
+      for (std::size_t m = first; m < last; ++m) {
+        const std::size_t j = pairs[m].second;
         if (j == i || (shift[i] == 0.0 && shift[j] == 0.0)) continue;
-        const MapSegment& s = *segs[j];
-        if (std::abs(segs[i]->direction().dot(normal[j])) < min_sin) continue;
-        const double off = std::abs((e - s.a).dot(normal[j]));
-        const double along = (e - s.a).dot(s.direction());
-        if (off <= best && along >= -o.junction && along <= s.length() + o.junction) best = off, which = j;
+        if (std::abs(dir[i].dot(normal[j])) < min_sin) continue;
+        const Vec2 q = ends[e] - segs[j]->a;
+        const double off = std::abs(q.dot(normal[j])), along = q.dot(dir[j]);
+        if (off <= best && along >= -o.junction && along <= length[j] + o.junction) best = off, which = j;
       }
-      if (which < n) junctions.push_back({i, which, end_b});
+      if (which < n) junctions.push_back({i, which, e % 2 == 1});
+      first = last;
     }
+  }
   std::vector<Vec2> door_move;
   for (const DoorOpening& d : plan.extras.doors)
     for (const Vec2& p : {d.a, d.b}) {
@@ -246,7 +262,7 @@ ScanFitStats fitToScans(VectorizeResult& plan, const LaserLog& log, const grid::
     Vec2& e = j.end_b ? s.b : s.a;
     if (!crossing(s.a, s.b, other.a, other.b, x) || (x - e).norm() > 2.0 * o.reach) continue;
     const Vec2 rest = j.end_b ? s.a : s.b;  // the segment keeps its direction and some length
-    if ((j.end_b ? x - rest : rest - x).dot(s.direction()) <= 0.0) continue;
+    if ((j.end_b ? x - rest : rest - x).dot(dir[j.seg]) <= 0.0) continue;
     e = x;
     ++stats.junctions;
   }
