@@ -60,13 +60,20 @@ std::vector<std::filesystem::path> writeFloorplanSet(const std::filesystem::path
                                                      const std::vector<std::string>& extensions,
                                                      const FloorplanExtras& extras, const FloorplanGeoref* georef) {
   std::vector<std::filesystem::path> written;
-  for (const std::string& ext : extensions) {
-    std::filesystem::path p = stem;
-    p += "." + ext;
-    // Pictures of an empty map have nothing to show; the vector formats are still written.
-    if (map.segments.empty() && (ext == "svg" || ext == "png" || ext == "pdf")) continue;
-    exportFloorplan(p, map, extras, georef);
-    written.push_back(p);
+  try {
+    for (const std::string& ext : extensions) {
+      std::filesystem::path p = stem;
+      p += "." + ext;
+      // Pictures of an empty map have nothing to show; the vector formats are still written.
+      if (map.segments.empty() && (ext == "svg" || ext == "png" || ext == "pdf")) continue;
+      exportFloorplan(p, map, extras, georef);
+      written.push_back(p);
+    }
+  } catch (...) {
+    // A set is whole or not there: a failed file (a full disk) takes the ones before it along.
+    std::error_code ec;
+    for (const auto& p : written) std::filesystem::remove(p, ec);
+    throw;
   }
   return written;
 }

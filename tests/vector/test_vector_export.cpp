@@ -121,6 +121,14 @@ TEST(Export, FloorplanSetWritesEveryDefaultFormat) {
   fs::remove_all(dir);
 }
 
+TEST(Export, AFloorplanSetThatFailsLeavesNoFileBehind) {
+  // The third file cannot be written (as on a full disk): the two before it are removed.
+  const fs::path dir = tempDir("set_fails");
+  EXPECT_THROW(writeFloorplanSet(dir / "floorplan", sample(), {"geojson", "gpkg", "nosuchformat"}), Error);
+  EXPECT_TRUE(fs::is_empty(dir));
+  fs::remove_all(dir);
+}
+
 TEST(Export, LabelRasterRoundTripIntoVectorize) {
   const fs::path dir = tempDir("raster");
   LabelGrid g = makeLabelGrid(120, 80, 0.05, Vec2(-1.0, 2.0));

@@ -28,7 +28,8 @@ bool isExportFormat(const std::filesystem::path& path);
 void exportFloorplan(const std::filesystem::path& path, const VectorMap& map, const FloorplanExtras& extras = {},
                      const FloorplanGeoref* georef = nullptr);
 
-/// Writes <stem>.<ext> for every extension, in order; returns the paths written.
+/// Writes <stem>.<ext> for every extension, in order; returns the paths written. When one fails
+/// (Error), the files this call wrote are removed before the error goes on: no partial set.
 /// pipeline::writeMapFiles calls writeFloorplanSet(dir / "floorplan", result.floorplan.map).
 std::vector<std::filesystem::path> writeFloorplanSet(const std::filesystem::path& stem, const VectorMap& map,
                                                      const std::vector<std::string>& extensions = defaultFloorplanSet(),
