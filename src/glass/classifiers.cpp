@@ -70,7 +70,87 @@ void normalise(const std::vector<double>& ll, float* cost) {
   }
 }
 
+// Uniform doubles in [0, 1) from SplitMix64 (the same draws everywhere; std:: distributions are
+// implementation-defined).
+class SampleDraw {
+ public:
+  explicit SampleDraw(std::uint64_t seed) : state_(seed) {}
+  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  double gaussian() {  // Box-Muller, one of the pair
+    const double u = 1.0 - uniform();
+    return std::sqrt(-2.0 * std::log(u)) * std::cos(2.0 * kPi * uniform());
+  }
+
+ private:
+  std::uint64_t next() {
+    std::uint64_t x = (state_ += 0x9e3779b97f4a7c15ULL);
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    return x ^ (x >> 31);
+  }
+  std::uint64_t state_;
+};
+
 }  // namespace
+
+PaneLanding::PaneLanding(int bins, double resolution, double range_sigma, double miss_margin) : bins_(bins) {
+  if (bins < 1 || !(resolution > 0.0) || !(range_sigma >= 0.0) || !(miss_margin >= 0.0)) {
+    throw Error("pane landing: bins >= 1, resolution > 0, range_sigma and miss_margin >= 0 expected");
+  }
+  const int half = bins / 2;
+  hit_.assign(static_cast<std::size_t>(bins) * static_cast<std::size_t>(half + 1), 0.0);
+  miss_.assign(hit_.size(), 0.0);
+  const double width = kPi / bins;  // bin width [rad]
+  // The walk: from before the crossing (the miss margin, the noise and 20 cells: a grazing beam
+  // runs along a pane's cells for about that) to past it; in a local grid around the origin.
+  const double before = miss_margin + 5.0 * range_sigma + 20.0 * resolution;
+  const double after = 5.0 * range_sigma + 20.0 * resolution;
+  const int span = static_cast<int>(std::ceil((before + after) / resolution)) + 4;
+  grid::GridGeometry g;
+  g.resolution = resolution;
+  g.width = g.height = 2 * span;
+  g.origin = Vec2(-span * resolution, -span * resolution);
+  constexpr int kSamples = 512;
+  // A pane's orientation and its mirror image across the x axis (bins k and bins - k) meet the
+  // grid alike: walk k = 0 .. half and copy.
+  tbb::parallel_for(0, half + 1, [&](int k) {
+    const double nu = k * width;
+    const Vec2 n(std::cos(nu), std::sin(nu));
+    const double reach = 0.5 * resolution * (std::abs(n.x()) + std::abs(n.y()));
+    for (int d = 0; d <= half; ++d) {
+      SampleDraw draw(0x5eed0000ULL + static_cast<std::uint64_t>(k) * 1000u + static_cast<std::uint64_t>(d));
+      double hits = 0.0, misses = 0.0, entered = 0.0;
+      for (int s = 0; s < kSamples; ++s) {
+        // The crossing uniform over a cell (the lattice repeats), the incidence uniform over the bin.
+        const Vec2 c(draw.uniform() * resolution, draw.uniform() * resolution);
+        double theta = (d - 0.5 + draw.uniform()) * width;
+        if (d > 0 && draw.uniform() < 0.5) theta = -theta;
+        const Vec2 dir(std::cos(nu + theta), std::sin(nu + theta));
+        const auto onPane = [&](int x, int y) { return std::abs(n.dot(g.center(x, y) - c)) <= reach; };
+        const Vec2 from = c - before * dir;
+        // A beam that passes: a miss in every pane cell it enters.
+        grid::traverse(g, from, c + after * dir, [&](int x, int y, double, bool) {
+          if (onPane(x, y)) entered += 1.0;
+        });
+        // A beam the pane returns: its reading about the crossing; a hit where it falls, a miss
+        // in the pane cells entered more than the margin before it.
+        const double range = before + range_sigma * draw.gaussian();
+        if (!(range > 0.0)) continue;
+        grid::traverse(g, from, from + range * dir, [&](int x, int y, double t, bool last) {
+          if (!onPane(x, y)) return;
+          if (last) {
+            hits += 1.0;
+          } else if (t * range < range - miss_margin) {
+            misses += 1.0;
+          }
+        });
+      }
+      const std::size_t i = index(k, d), j = index((bins - k) % bins, d);
+      hit_[i] = hit_[j] = entered > 0.0 ? hits / entered : 1.0;
+      miss_[i] = miss_[j] = entered > 0.0 ? misses / entered : 0.0;
+    }
+  });
+}
 
 std::vector<double> directLobe(int bins, const DirectOptions& o) {
   // Average of peak * exp(-theta^2 / 2 sigma^2) over the bin's incidence range, by quadrature.
@@ -225,7 +305,7 @@ CellEvidence classifyHeuristic(const grid::HitMissGrid& counts, const AngleHisto
 }
 
 CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistograms& hist, const SigmoidSums& sums,
-                            const DirectOptions& o) {
+                            const DirectOptions& o, double miss_margin) {
   if (!(o.prior_glass > 0.0 && o.prior_occupied > 0.0 && o.prior_glass + o.prior_occupied < 1.0)) {
     throw Error("priors must be positive and sum below 1", {}, 0, "prior_glass/prior_occupied");
   }
@@ -233,16 +313,23 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
   const auto ids = histogramIds(e, hist);
   const int bins = e.bins;
   const std::vector<double> lobe = directLobe(bins, o);
-  std::vector<double> log_hit(lobe.size()), log_miss(lobe.size());
-  for (std::size_t d = 0; d < lobe.size(); ++d) {
-    // A glass cell returns a beam by direct reflection, or by the same spurious causes as an
-    // empty cell (so glass never explains misses better than EMP does off the lobe). A sensor's
-    // floor of direct returns at any angle is such a cause seen from the pane: the larger of the
-    // two rates explains off-lobe hits (they are not added: a floor fitted at or below the
-    // spurious rate changes nothing).
-    const double q = lobe[d] + (1.0 - lobe[d]) * std::max(o.p_hit_emp, o.direct_floor);
-    log_hit[d] = std::log(q);
-    log_miss[d] = std::log1p(-q);
+  const PaneLanding landing(bins, e.geometry.resolution, 0.0, miss_margin);
+  const std::size_t span = lobe.size();
+  std::vector<double> log_hit(static_cast<std::size_t>(bins) * span), log_miss(log_hit.size());
+  for (int k = 0; k < bins; ++k) {
+    for (std::size_t d = 0; d < span; ++d) {
+      // A glass cell returns a beam by direct reflection (the lobe, and the sensor's floor of
+      // direct returns at any angle), as a cell of the pane sees them (PaneLanding), or by the
+      // same spurious causes as an empty cell: so glass never explains misses better than EMP
+      // does off the lobe, and a floor whose cell rate is at or below the spurious rate changes
+      // nothing (the larger of the two explains off-lobe hits; they are not added).
+      const int di = static_cast<int>(d);
+      const double direct = landing.cellRate(k, di, lobe[d] + (1.0 - lobe[d]) * o.direct_floor);
+      const double lobe_cell = landing.cellRate(k, di, lobe[d]);
+      const double q = std::max(direct, lobe_cell + (1.0 - lobe_cell) * o.p_hit_emp);
+      log_hit[static_cast<std::size_t>(k) * span + d] = std::log(q);
+      log_miss[static_cast<std::size_t>(k) * span + d] = std::log1p(-q);
+    }
   }
   const double lp_glass = std::log(o.prior_glass / bins), lp_occ = std::log(o.prior_occupied);
   const double lp_emp = std::log(1.0 - o.prior_glass - o.prior_occupied);
@@ -272,10 +359,12 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
     ll[kOccupied] = lp_occ + sums.log_occ[id] + total_m * lm_occ;
     for (int k = 0; k < bins; ++k) {
       double v = lp_glass + sums.log_glass[id];
+      const double* lh = &log_hit[static_cast<std::size_t>(k) * span];
+      const double* lm = &log_miss[static_cast<std::size_t>(k) * span];
       for (int b : active) {
         int d = std::abs(b - k);
         d = std::min(d, bins - d);
-        v += h[b] * log_hit[d] + m[b] * log_miss[d];
+        v += h[b] * lh[d] + m[b] * lm[d];
       }
       ll[glassLabel(k)] = v;
     }

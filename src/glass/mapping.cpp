@@ -76,7 +76,7 @@ MappingResult mapLog(const LaserLog& log, const MappingOptions& o,
 
   t0 = std::chrono::steady_clock::now();
   result.evidence = o.method == Method::Heuristic ? classifyHeuristic(counts, hist, o.heuristic)
-                                                  : classifyDirect(counts, hist, sums, o.direct);
+                                                  : classifyDirect(counts, hist, sums, o.direct, o.beams.miss_margin);
   st.seconds_classify = secondsSince(t0);
 
   st.observed_cells = counts.observedCells();

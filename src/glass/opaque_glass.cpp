@@ -60,6 +60,28 @@ void countSpurious(const LaserScan& scan, const OpaqueGlassOptions& o, std::uint
   }
 }
 
+// The least share of the beams along its normal that a cell of a pane returns (rplidar-a2's
+// faint lobe, peak 0.3 and sigma 1 deg, averaged over a 5 deg bin and spread over the cells a
+// pane crosses, returns about 0.08-0.15).
+constexpr double kLeastNormalRate = 0.05;
+
+// log10 P(X <= k) for X ~ Binomial(n, p), 0 < p < 1.
+double log10BinomialCdf(int k, int n, double p) {
+  if (k >= n) return 0.0;
+  const double lp = std::log(p), lq = std::log1p(-p);
+  double log_term = n * lq;  // P(X = 0)
+  double mx = log_term;
+  std::vector<double> terms{log_term};
+  for (int i = 1; i <= k; ++i) {
+    log_term += std::log(static_cast<double>(n - i + 1) / i) + lp - lq;
+    terms.push_back(log_term);
+    mx = std::max(mx, log_term);
+  }
+  double sum = 0.0;
+  for (double t : terms) sum += std::exp(t - mx);
+  return (mx + std::log(sum)) / std::log(10.0);
+}
+
 }  // namespace
 
 OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions& beams, const OpaqueGlassOptions& o,
@@ -84,12 +106,16 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   // the scans were shared out.
   struct Tally {
     std::vector<std::uint32_t> pass, stop, own;
+    // Returns that came through another pane first; direct returns and passes along the normal.
+    std::vector<std::uint32_t> through, near_own, near_pass;
     std::uint64_t surface = 0, spurious = 0;  // in-scan: readings between two on one surface, and wrong ones
   };
   tbb::enumerable_thread_specific<Tally> tallies([&] {
-    return Tally{std::vector<std::uint32_t>(cells.size(), 0), std::vector<std::uint32_t>(cells.size(), 0),
-                 std::vector<std::uint32_t>(cells.size(), 0)};
+    const std::vector<std::uint32_t> zero(cells.size(), 0);
+    return Tally{zero, zero, zero, zero, zero, zero};
   });
+  // Along the normal: within half a bin of it (the label's own bin).
+  const double cos_near = std::cos(0.5 * kPi / e.bins);
   const detail::GlassTiles tiles(e);
   const detail::CandidateIndex slots(g, cells);  // glass cell -> its slot
   grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& t) {
@@ -101,31 +127,45 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
       auto slot = [&](int x, int y) { return static_cast<std::size_t>(slots.find(x, y)); };
       // A return in a glass cell itself.
       const grid::CellIndex end = g.cellAt(beam.to);
-      if (beam.hit && g.contains(end) && is_glass[g.index(end)]) ++t.own[slot(end.x, end.y)];
+      const bool own = beam.hit && g.contains(end) && is_glass[g.index(end)];
+      if (own) ++t.own[slot(end.x, end.y)];
+      const Vec2 dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
       // The glass cells it crosses, up to where it leaves the first pane. The beam's terms are
       // worked out at its first glass cell (most beams near a pane cross none).
-      bool in_glass = false;
+      bool in_glass = false, direct = false;
       double beyond = 0.0;
-      Vec2 dir = Vec2::Zero();
       grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
         const std::size_t i = g.index(x, y);
         if (!is_glass[i]) return !in_glass;  // past the first pane: nothing more counts
         if (!in_glass) {
           const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
           beyond = std::max(o.beyond, 5.0 * sigma);
-          dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
         }
         in_glass = true;
-        if (last) return false;
+        if (last) {
+          direct = true;  // its reading in the first pane it met
+          return false;
+        }
         const std::size_t c = slot(x, y);
         const Vec2 n = dir.dot(normals[c]) >= 0.0 ? normals[c] : Vec2(-normals[c]);
         const double past = n.dot(beam.to - g.center(x, y));
-        ++(!beam.hit || past >= beyond ? t.pass[c] : t.stop[c]);
+        const bool pass = !beam.hit || past >= beyond;
+        ++(pass ? t.pass[c] : t.stop[c]);
+        if (pass && std::abs(dir.dot(n)) >= cos_near) ++t.near_pass[c];
         return true;
       });
+      if (own) {
+        const std::size_t c = slot(end.x, end.y);
+        if (!direct) {
+          ++t.through[c];
+        } else if (std::abs(dir.dot(normals[c])) >= cos_near) {
+          ++t.near_own[c];
+        }
+      }
     });
   });
   std::vector<std::uint32_t> pass(cells.size(), 0), stop(cells.size(), 0), own(cells.size(), 0);
+  std::vector<std::uint32_t> through(cells.size(), 0), near_own(cells.size(), 0), near_pass(cells.size(), 0);
   for (const Tally& t : tallies) {
     stats.surface_readings += t.surface;
     stats.spurious_readings += t.spurious;
@@ -133,6 +173,9 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
       pass[c] += t.pass[c];
       stop[c] += t.stop[c];
       own[c] += t.own[c];
+      through[c] += t.through[c];
+      near_own[c] += t.near_own[c];
+      near_pass[c] += t.near_pass[c];
     }
   }
 
@@ -141,7 +184,7 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   // evidence pooled.
   const std::vector<std::size_t> pane = paneOf(e, cells, slots);
   struct Pooled {
-    double pass = 0, stop = 0, own = 0;
+    double pass = 0, stop = 0, own = 0, through = 0, near_own = 0, near_pass = 0;
   };
   std::vector<Pooled> pooled(cells.size());
   for (std::size_t c = 0; c < cells.size(); ++c) {
@@ -149,6 +192,9 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
     p.pass += pass[c];
     p.stop += stop[c];
     p.own += own[c];
+    p.through += through[c];
+    p.near_own += near_own[c];
+    p.near_pass += near_pass[c];
   }
   // The verdict on evidence (passes, stops, returns in the cells): nullopt when too little.
   const auto opaque = [&](double p, double s, double returns) -> std::optional<bool> {
@@ -168,10 +214,24 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
     const double spurious = stats.spuriousShare() * (p.pass + p.own);
     return p.own >= o.min_unpassed_returns && p.pass <= spurious + 3.0 * std::sqrt(spurious);
   };
+  // A mirror image drawn in open space: its returns came through other glass (the straight path
+  // of a beam that a pane turned runs on through the pane), while the beams that came to it
+  // directly along its normal passed it and did not return, where a pane returns at least
+  // kLeastNormalRate of them per cell (a faint laser's lobe, spread over a pane's cells:
+  // PaneLanding); P(so few | that rate) < 1e-3.
+  const auto imageOnly = [&](const Pooled& p) {
+    if (p.through < o.min_unpassed_returns || p.own - p.through > 0.1 * p.own) return false;
+    return log10BinomialCdf(static_cast<int>(p.near_own), static_cast<int>(p.near_own + p.near_pass),
+                            kLeastNormalRate) < -3.0;
+  };
   for (std::size_t c = 0; c < cells.size(); ++c) {
     const Pooled& of_pane = pooled[pane[c]];
     std::optional<bool> verdict;
-    if (spuriousOnly(of_pane)) {
+    if (imageOnly(of_pane)) {
+      verdict = true;
+      ++stats.decided_by_pane;
+      ++stats.images;
+    } else if (spuriousOnly(of_pane)) {
       verdict = true;
       ++stats.decided_by_pane;
     } else if ((verdict = opaque(pass[c], stop[c], own[c]))) {

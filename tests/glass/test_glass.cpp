@@ -118,6 +118,35 @@ TEST(DirectLobe, PeaksAtNormalAndFallsOff) {
   EXPECT_DOUBLE_EQ(lobe[10], o.lobe_floor);
 }
 
+TEST(PaneLanding, ACellOfAPaneSeesTheShareOfItsReturnsThatLandInIt) {
+  const double res = 0.05;
+  const PaneLanding exact(36, res, 0.0, 0.1);
+  // An axis-aligned pane lies in one row of cells: a beam along its normal enters one pane cell
+  // and its reading falls in it.
+  EXPECT_GT(exact.hit(0, 0), 0.95);
+  EXPECT_LT(exact.miss(0, 0), 0.01);
+  // A pane at 45 deg runs through two cells per row: a beam along its normal enters two of them
+  // and leaves its one hit in one.
+  EXPECT_NEAR(exact.hit(9, 0), 0.5, 0.05);
+  // The more oblique the beam, the more pane cells it passes per return.
+  EXPECT_LT(exact.hit(0, 12), 0.8 * exact.hit(0, 2));
+  // A pane and its mirror image across the x axis meet the grid alike.
+  for (int d = 0; d <= 18; ++d) EXPECT_DOUBLE_EQ(exact.hit(5, d), exact.hit(31, d));
+  // Range noise moves readings off the pane's cells.
+  const PaneLanding noisy(36, res, res, 0.15);
+  EXPECT_LT(noisy.hit(0, 0), 0.8 * exact.hit(0, 0));
+  // The same table every time (a fixed seed).
+  const PaneLanding again(36, res, 0.0, 0.1);
+  for (int k = 0; k < 36; ++k)
+    for (int d = 0; d <= 18; ++d) EXPECT_EQ(exact.hit(k, d), again.hit(k, d));
+  // What returns every beam shows every beam as a hit (a wall stays a wall); what returns none, none.
+  EXPECT_NEAR(exact.cellRate(9, 0, 1.0), 1.0, 1e-9);
+  EXPECT_EQ(exact.cellRate(9, 0, 0.0), 0.0);
+  // A pane at 45 deg that returns 30% of the beams along its normal shows about half that per cell.
+  EXPECT_NEAR(exact.cellRate(9, 0, 0.3), 0.3 * 0.5 / (0.3 * 0.5 + 0.7), 0.02);
+  EXPECT_THROW(PaneLanding(36, 0.0, 0.0, 0.1), Error);
+}
+
 class Classifiers : public ::testing::TestWithParam<Method> {};
 
 TEST_P(Classifiers, PaneIsGlassAtItsAngleAndWallsAreOccupied) {

@@ -17,6 +17,15 @@
 /// a pane that many beams returned from is passed by none when its passes are no more than the
 /// laser's spurious readings explain (no-return and far readings at a surface: their share among
 /// the readings between two neighbours on one surface, measured in the log's scans).
+///
+/// A pane (pooled as above) is also no pane when it is a mirror image drawn in open space: nearly
+/// all its returns came through another pane first (the straight continuation of a beam a pane
+/// reflected or let through and reflected back), and the beams that reached it directly within
+/// half an angle bin of its normal passed it with so few returns that a pane returning 5% of them
+/// per cell would give fewer with probability under 1e-3 (a laser whose panes mirror most beams
+/// draws such images all around a glass room, where the phantom test below sees no wall to block
+/// them; the far side of a glass room seen through its near side returns the beams that reach it
+/// directly and stays).
 
 #include <cstddef>
 #include <cstdint>
@@ -43,6 +52,7 @@ struct OpaqueGlassStats {
   std::size_t decided_by_pane = 0;      ///< ...too thinly seen, decided on their pane's (connected glass
                                         ///< cells with normals at most one bin apart) pooled evidence
   std::size_t relabelled = 0;           ///< ...found opaque and relabelled
+  std::size_t images = 0;               ///< ...of them mirror images in open space (see above)
   std::uint64_t surface_readings = 0;   ///< readings between two neighbours on one surface
   std::uint64_t spurious_readings = 0;  ///< ...that read nothing or well beyond them
   /// Their share: what a wall lets "through" [-].
