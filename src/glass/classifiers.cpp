@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "glassmap/core/error.hpp"
+#include "glassmap/core/split_mix.hpp"
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 
@@ -70,27 +71,6 @@ void normalise(const std::vector<double>& ll, float* cost) {
   }
 }
 
-// Uniform doubles in [0, 1) from SplitMix64 (the same draws everywhere; std:: distributions are
-// implementation-defined).
-class SampleDraw {
- public:
-  explicit SampleDraw(std::uint64_t seed) : state_(seed) {}
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  double gaussian() {  // Box-Muller, one of the pair
-    const double u = 1.0 - uniform();
-    return std::sqrt(-2.0 * std::log(u)) * std::cos(2.0 * kPi * uniform());
-  }
-
- private:
-  std::uint64_t next() {
-    std::uint64_t x = (state_ += 0x9e3779b97f4a7c15ULL);
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-  }
-  std::uint64_t state_;
-};
-
 }  // namespace
 
 PaneLanding::PaneLanding(int bins, double resolution, double range_sigma, double miss_margin) : bins_(bins) {
@@ -118,7 +98,7 @@ PaneLanding::PaneLanding(int bins, double resolution, double range_sigma, double
     const Vec2 n(std::cos(nu), std::sin(nu));
     const double reach = 0.5 * resolution * (std::abs(n.x()) + std::abs(n.y()));
     for (int d = 0; d <= half; ++d) {
-      SampleDraw draw(0x5eed0000ULL + static_cast<std::uint64_t>(k) * 1000u + static_cast<std::uint64_t>(d));
+      SplitMix draw(0x5eed0000ULL + static_cast<std::uint64_t>(k) * 1000u + static_cast<std::uint64_t>(d));
       double hits = 0.0, misses = 0.0, entered = 0.0;
       for (int s = 0; s < kSamples; ++s) {
         // The crossing uniform over a cell (the lattice repeats), the incidence uniform over the bin.
@@ -134,7 +114,7 @@ PaneLanding::PaneLanding(int bins, double resolution, double range_sigma, double
         });
         // A beam the pane returns: its reading about the crossing; a hit where it falls, a miss
         // in the pane cells entered more than the margin before it.
-        const double range = before + range_sigma * draw.gaussian();
+        const double range = before + range_sigma * draw.normal();
         if (!(range > 0.0)) continue;
         grid::traverse(g, from, from + range * dir, [&](int x, int y, double t, bool last) {
           if (!onPane(x, y)) return;

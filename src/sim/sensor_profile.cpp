@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "glassmap/core/error.hpp"
+#include "glassmap/core/split_mix.hpp"
 
 namespace glassmap::sim {
 namespace {
@@ -86,27 +87,9 @@ SensorProfile make(const std::string& name, const std::string& description, cons
   return p;
 }
 
-// SplitMix64 with uniform doubles from the top 53 bits: the same draws on every platform and
-// standard library (std:: distributions are implementation-defined).
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : state_(seed) {}
-  double uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  std::size_t index(std::size_t n) { return static_cast<std::size_t>(next() % n); }
-
- private:
-  std::uint64_t next() {
-    std::uint64_t x = (state_ += 0x9e3779b97f4a7c15ULL);
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-  }
-  std::uint64_t state_;
-};
-
 SensorProfile randomProfile(const std::string& name, std::uint64_t seed) {
-  Draw d(seed);
-  const Named& base = kProfiles[d.index(std::size(kProfiles))];
+  SplitMix d(seed);  // the same draws on every platform
+  const Named& base = kProfiles[d.next() % std::size(kProfiles)];
   Noise n;
   n.sigma = d.uniform(0.003, 0.03);
   n.sigma_rel = d.uniform(0.0, 0.012);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "glassmap/core/pose2.hpp"
+#include "glassmap/core/split_mix.hpp"
 
 namespace glassmap::vector::detail {
 
@@ -26,27 +27,6 @@ Components connectedComponents(int width, int height, const std::vector<std::uin
 /// Amanatides–Woo. The cell containing q is visited last.
 void walkCells(const Vec2& p, const Vec2& q, int width, int height, const std::function<bool(int, int)>& visit);
 
-/// SplitMix64: the same numbers on every platform (std distributions are not).
-class SplitMix {
- public:
-  explicit SplitMix(std::uint64_t seed) : s_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (s_ += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  /// Uniform in [0, 1).
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-  /// Standard normal (Box–Muller).
-  double normal() {
-    const double u1 = std::max(uniform(), 1e-300), u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * 3.14159265358979323846 * u2);
-  }
-
- private:
-  std::uint64_t s_;
-};
+using glassmap::SplitMix;  // core/split_mix.hpp
 
 }  // namespace glassmap::vector::detail
