@@ -101,6 +101,15 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   }
   stats.glass_cells = cells.size();
   if (cells.empty()) return stats;
+  // Within a cell of a glass cell: a beam through a one-cell gap in a pane's labels went through
+  // the pane.
+  std::vector<bool> near_glass(g.cells(), false);
+  for (std::size_t i : cells) {
+    const grid::CellIndex c = g.cellOf(i);
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (g.contains(c.x + dx, c.y + dy)) near_glass[g.index(c.x + dx, c.y + dy)] = true;
+  }
 
   // Per thread: passes and stops per glass cell. Integer sums: the result does not depend on how
   // the scans were shared out.
@@ -132,11 +141,15 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
       const Vec2 dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
       // The glass cells it crosses, up to where it leaves the first pane. The beam's terms are
       // worked out at its first glass cell (most beams near a pane cross none).
-      bool in_glass = false, direct = false;
+      bool in_glass = false, direct = false, gap = false;
       double beyond = 0.0;
       grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
         const std::size_t i = g.index(x, y);
-        if (!is_glass[i]) return !in_glass;  // past the first pane: nothing more counts
+        if (!is_glass[i]) {
+          if (near_glass[i] && !in_glass) gap = true;
+          if (gap && !near_glass[i]) return false;  // through a gap in a pane's labels
+          return !in_glass;  // past the first pane: nothing more counts
+        }
         if (!in_glass) {
           const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
           beyond = std::max(o.beyond, 5.0 * sigma);
