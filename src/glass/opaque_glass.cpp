@@ -148,7 +148,7 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
         if (!is_glass[i]) {
           if (near_glass[i] && !in_glass) gap = true;
           if (gap && !near_glass[i]) return false;  // through a gap in a pane's labels
-          return !in_glass;  // past the first pane: nothing more counts
+          return !in_glass;                         // past the first pane: nothing more counts
         }
         if (!in_glass) {
           const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);

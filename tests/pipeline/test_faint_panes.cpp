@@ -1,9 +1,10 @@
 // `glassmap map` (every step, by default) on panes seen by a faint, mirror-like laser (the glass
 // response of the random:7 profile: a return at normal incidence 53% of the time, lobe sigma
 // 3.6 deg, 6% at any angle, 86% of the other beams reflected) around the glass meeting room of
-// maps/glass-room, turned 25 deg in the grid. A pane cell sees only a share of the pane's returns
-// (glass/classifiers.hpp, PaneLanding): a classifier that expected the lobe's rate in every cell
-// labelled none of the room's panes (cell F1@2 0.15 in tools/sensor_sweep.py). And random:20 below.
+// maps/glass-room, turned 25 deg in the grid; and random:20 below, in the glass room and corridor.
+// A pane cell sees only a share of the pane's returns (glass/classifiers.hpp, PaneLanding): a
+// classifier that expected the lobe's rate in every cell labelled none of the room's panes (cell
+// F1@2 0.15 in tools/sensor_sweep.py).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -33,11 +34,17 @@ double paneDistance(const VectorMap& plan, const Vec2& p, double trim) {
   return best;
 }
 
-class FaintPanes : public ::testing::TestWithParam<const char*> {};
+struct Case {
+  const char* laser;
+  const char* scene;
+};
 
-TEST_P(FaintPanes, OfATurnedGlassRoomAreGlassAlongTheirLength) {
-  sim::Scene scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / "glass-room" / "scene.yaml");
-  sim::applySensorProfile(scene, sim::sensorProfile(GetParam()));
+class FaintPanes : public ::testing::TestWithParam<Case> {};
+
+TEST_P(FaintPanes, AreGlassAlongTheirLengthAndNothingElseIs) {
+  sim::Scene scene =
+      sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / GetParam().scene / "scene.yaml");
+  sim::applySensorProfile(scene, sim::sensorProfile(GetParam().laser));
   scene.laser.rate = 10.0;  // as tools/sensor_sweep.py simulates it
   const LaserLog log = sim::simulate(scene).log;
   const MapResult r = mapLog(log);
@@ -74,8 +81,13 @@ TEST_P(FaintPanes, OfATurnedGlassRoomAreGlassAlongTheirLength) {
 
 // random:20: peak 0.52, lobe sigma 2.5 deg, 70% of the other beams reflected; its mirror images
 // of the room drawn as glass all around it (cell F1@2 0.31) until the opaque-glass test took
-// images seen only through other glass for what they are (glass/opaque_glass.hpp).
-INSTANTIATE_TEST_SUITE_P(Lasers, FaintPanes, ::testing::Values("random:7", "random:20"));
+// images seen only through other glass for what they are (glass/opaque_glass.hpp). In the glass
+// corridor the walls and furniture of the rooms behind the panes passed for glass (F1@2 0.61):
+// the straight continuations of the mirrored beams run past them, and those that slipped through
+// one-cell gaps in a pane's labels counted as seen directly, until such a gap counted as the pane.
+INSTANTIATE_TEST_SUITE_P(Lasers, FaintPanes,
+                         ::testing::Values(Case{"random:7", "glass-room"}, Case{"random:20", "glass-room"},
+                                           Case{"random:20", "glass-corridor"}));
 
 }  // namespace
 }  // namespace glassmap::pipeline
