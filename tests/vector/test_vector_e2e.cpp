@@ -123,7 +123,10 @@ TEST_P(SceneE2E, FloorplanMatchesTheScene) {
 // 0.914 with the pane Psi, which charges the arcs' across-pane borders nothing; 0.900, precision
 // 0.899 and recall 0.902 (0.924 before the fit), since the classifier expects per cell the share
 // of a pane's returns that land in it (glass/classifiers.hpp, PaneLanding): the arcs seen
-// obliquely pass for glass more often, 0.44 of the cells before the fit against 0.50).
+// obliquely pass for glass more often, 0.44 of the cells before the fit against 0.50); 0.885,
+// precision 0.899 and recall 0.871 (0.896 before the fit), since a beam through a one-cell gap in
+// a pane's labels counts as gone through it (glass/opaque_glass.hpp): beams past the people's arcs
+// no longer cross the panes behind them directly, and a few pane cells pass for opaque.
 TEST(PeopleE2E, PassersByDoNotBecomeGlassCells) {
   sim::Scene scene = bundledScene("paper-corridor");
   scene.people.density = 5.0;
@@ -139,7 +142,7 @@ TEST(PeopleE2E, PassersByDoNotBecomeGlassCells) {
             << after.tolerant.f1 << " (" << pruned << " cells relabelled)\n";
   EXPECT_LT(before.tolerant.precision, 0.7);
   EXPECT_GE(after.tolerant.precision, 0.89);
-  EXPECT_GE(after.tolerant.f1, 0.89);
+  EXPECT_GE(after.tolerant.f1, 0.88);
   EXPECT_GE(after.tolerant.recall, before.tolerant.recall - 0.03);
 }
 
