@@ -90,7 +90,8 @@ PaneLanding::PaneLanding(int bins, double resolution, double range_sigma, double
   g.resolution = resolution;
   g.width = g.height = 2 * span;
   g.origin = Vec2(-span * resolution, -span * resolution);
-  constexpr int kSamples = 512;
+  // 512 beams per entry at the default 36 bins; finer bins share about the same total.
+  const int samples = std::max(64, 512 * 36 / bins);
   // A pane's orientation and its mirror image across the x axis (bins k and bins - k) meet the
   // grid alike: walk k = 0 .. half and copy.
   tbb::parallel_for(0, half + 1, [&](int k) {
@@ -100,7 +101,7 @@ PaneLanding::PaneLanding(int bins, double resolution, double range_sigma, double
     for (int d = 0; d <= half; ++d) {
       SplitMix draw(0x5eed0000ULL + static_cast<std::uint64_t>(k) * 1000u + static_cast<std::uint64_t>(d));
       double hits = 0.0, misses = 0.0, entered = 0.0;
-      for (int s = 0; s < kSamples; ++s) {
+      for (int s = 0; s < samples; ++s) {
         // The crossing uniform over a cell (the lattice repeats), the incidence uniform over the bin.
         const Vec2 c(draw.uniform() * resolution, draw.uniform() * resolution);
         double theta = (d - 0.5 + draw.uniform()) * width;

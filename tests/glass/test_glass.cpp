@@ -145,6 +145,10 @@ TEST(PaneLanding, ACellOfAPaneSeesTheShareOfItsReturnsThatLandInIt) {
   // A pane at 45 deg that returns 30% of the beams along its normal shows about half that per cell.
   EXPECT_NEAR(exact.cellRate(9, 0, 0.3), 0.3 * 0.5 / (0.3 * 0.5 + 0.7), 0.02);
   EXPECT_THROW(PaneLanding(36, 0.0, 0.0, 0.1), Error);
+  // 1 deg bins (fewer beams per entry, as many in all): the same shape.
+  const PaneLanding fine(180, res, 0.0, 0.1);
+  EXPECT_GT(fine.hit(0, 0), 0.95);
+  EXPECT_NEAR(fine.hit(45, 0), 0.5, 0.08);
 }
 
 class Classifiers : public ::testing::TestWithParam<Method> {};
