@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -10,6 +11,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <boost/math/special_functions/beta.hpp>
 #include <boost/pending/disjoint_sets.hpp>
 
 #include "glass_tiles.hpp"
@@ -65,21 +67,11 @@ void countSpurious(const LaserScan& scan, const OpaqueGlassOptions& o, std::uint
 // pane crosses, returns about 0.08-0.15).
 constexpr double kLeastNormalRate = 0.05;
 
-// log10 P(X <= k) for X ~ Binomial(n, p), 0 < p < 1.
+// log10 P(X <= k) for X ~ Binomial(n, p), 0 < p < 1: the regularised incomplete beta's complement.
 double log10BinomialCdf(int k, int n, double p) {
   if (k >= n) return 0.0;
-  const double lp = std::log(p), lq = std::log1p(-p);
-  double log_term = n * lq;  // P(X = 0)
-  double mx = log_term;
-  std::vector<double> terms{log_term};
-  for (int i = 1; i <= k; ++i) {
-    log_term += std::log(static_cast<double>(n - i + 1) / i) + lp - lq;
-    terms.push_back(log_term);
-    mx = std::max(mx, log_term);
-  }
-  double sum = 0.0;
-  for (double t : terms) sum += std::exp(t - mx);
-  return (mx + std::log(sum)) / std::log(10.0);
+  const double cdf = boost::math::ibetac(static_cast<double>(k + 1), static_cast<double>(n - k), p);
+  return cdf > 0.0 ? std::log10(cdf) : -std::numeric_limits<double>::infinity();
 }
 
 }  // namespace
@@ -138,21 +130,22 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
       const grid::CellIndex end = g.cellAt(beam.to);
       const bool own = beam.hit && g.contains(end) && is_glass[g.index(end)];
       if (own) ++t.own[slot(end.x, end.y)];
-      const Vec2 dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
       // The glass cells it crosses, up to where it leaves the first pane. The beam's terms are
       // worked out at its first glass cell (most beams near a pane cross none).
       bool in_glass = false, direct = false, gap = false;
       double beyond = 0.0;
+      Vec2 dir = Vec2::Zero();
       grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
         const std::size_t i = g.index(x, y);
         if (!is_glass[i]) {
-          if (near_glass[i] && !in_glass) gap = true;
-          if (gap && !near_glass[i]) return false;  // through a gap in a pane's labels
-          return !in_glass;                         // past the first pane: nothing more counts
+          if (in_glass) return false;  // past the first pane: nothing more counts
+          if (near_glass[i]) gap = true;
+          return !gap || near_glass[i];  // out of a gap in a pane's labels: through the pane
         }
         if (!in_glass) {
           const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
           beyond = std::max(o.beyond, 5.0 * sigma);
+          dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
         }
         in_glass = true;
         if (last) {
@@ -167,7 +160,7 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
         if (pass && std::abs(dir.dot(n)) >= cos_near) ++t.near_pass[c];
         return true;
       });
-      if (own) {
+      if (own) {  // direct: the walk reached its reading in the first pane (dir is set)
         const std::size_t c = slot(end.x, end.y);
         if (!direct) {
           ++t.through[c];

@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "glassmap/core/pose2.hpp"
-#include "glassmap/core/split_mix.hpp"
 
 namespace glassmap::vector::detail {
 
@@ -26,7 +25,5 @@ Components connectedComponents(int width, int height, const std::vector<std::uin
 /// corner at 0), in order, stopping when `visit(x, y)` returns false or the walk leaves the grid.
 /// Amanatides–Woo. The cell containing q is visited last.
 void walkCells(const Vec2& p, const Vec2& q, int width, int height, const std::function<bool(int, int)>& visit);
-
-using glassmap::SplitMix;  // core/split_mix.hpp
 
 }  // namespace glassmap::vector::detail

@@ -8,6 +8,7 @@
 
 #include "glassmap/core/angles.hpp"
 #include "glassmap/core/error.hpp"
+#include "glassmap/core/split_mix.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
 #include "glassmap/grid/distance_transform.hpp"
 #include "grid_util.hpp"
@@ -31,8 +32,6 @@ MapConvention parseMapConvention(const std::string& name, const std::string& fie
 }
 
 namespace {
-
-using detail::SplitMix;
 
 // A furniture piece: a rectangle centred at c with half sizes h along u and along u's normal.
 struct Box {

@@ -103,7 +103,8 @@ class PaneLanding {
 /// laser, mirror images of walls passed for glass, and the pane cells of that log kept 0.54 of the
 /// returns where the grid alone predicts 0.58).
 CellEvidence classifyDirect(const grid::HitMissGrid& counts, const grid::AngleHistograms& histograms,
-                            const SigmoidSums& sums, const DirectOptions& options, double miss_margin = 0.1);
+                            const SigmoidSums& sums, const DirectOptions& options,
+                            double miss_margin = grid::BeamOptions{}.miss_margin);
 
 /// Bin-averaged direct-reflection lobe: P(hit | GLS at bin distance d) for d = 0 .. bins / 2.
 std::vector<double> directLobe(int bins, const DirectOptions& options);
