@@ -293,12 +293,13 @@ const cli::Registrar reg(40, [](CLI::App& app) {
                 "map once with the default thresholds (a 1-2 cm laser with a 2 deg glass lobe). By default\n"
                 "a first pass maps the log, the sensor profile is fitted against its floorplan (as\n"
                 "`glassmap calibrate`), and the log is mapped again with the thresholds the profile sets\n"
-                "(range-noise margins; the glass lobe too with --profile-lobe).\n"
+                "(range-noise margins and the glass lobe; see --profile-lobe).\n"
                 "Options given explicitly (--direct-sigma, --miss-margin, ...) are kept either way");
-  cmd->add_flag("--profile-lobe", args->options.profile_lobe,
-                "let the profile's glass lobe (peak, sigma, floor) replace the classifier's defaults. Off by\n"
-                "default: it maps better for lobes a few degrees wide, worse for wide lobes with a floor\n"
-                "(README, Calibration); the range-noise thresholds follow the profile either way");
+  cmd->add_flag("--profile-lobe,!--no-profile-lobe", args->options.profile_lobe,
+                "the profile's glass lobe (peak, sigma, floor) replaces the classifier's defaults (on by\n"
+                "default; --no-profile-lobe keeps the 2 deg / 0.9 lobe and lets only the range-noise thresholds\n"
+                "follow the profile). A lobe the calibration could not fit (too few beams on glass) keeps the\n"
+                "defaults either way (README, Calibration)");
   cmd->add_option("--calibration-rounds", args->options.calibration_rounds, "fit and re-map this many times")
       ->capture_default_str()
       ->check(CLI::Range(1, 5));

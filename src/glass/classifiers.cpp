@@ -294,7 +294,7 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
   const auto ids = histogramIds(e, hist);
   const int bins = e.bins;
   const std::vector<double> lobe = directLobe(bins, o);
-  const PaneLanding landing(bins, e.geometry.resolution, 0.0, miss_margin);
+  const PaneLanding landing(bins, e.geometry.resolution, o.range_sigma, miss_margin);
   const std::size_t span = lobe.size();
   std::vector<double> log_hit(static_cast<std::size_t>(bins) * span), log_miss(log_hit.size());
   for (int k = 0; k < bins; ++k) {

@@ -136,7 +136,7 @@ bool fitProfile(const LaserLog& log, const VectorMap& plan, const MapOptions& op
 bool sameThresholds(const MapOptions& a, const MapOptions& b) {
   const glass::DirectOptions &x = a.mapping.direct, &y = b.mapping.direct;
   return x.direct_sigma_deg == y.direct_sigma_deg && x.direct_peak == y.direct_peak &&
-         x.direct_floor == y.direct_floor && x.sigmoid_margin == y.sigmoid_margin &&
+         x.direct_floor == y.direct_floor && x.sigmoid_margin == y.sigmoid_margin && x.range_sigma == y.range_sigma &&
          a.mapping.beams.miss_margin == b.mapping.beams.miss_margin &&
          a.phantom.glass_margin == b.phantom.glass_margin && a.phantom.block_margin == b.phantom.block_margin &&
          a.vectorize.noise_floor == b.vectorize.noise_floor &&
@@ -180,11 +180,17 @@ bool applyProfile(MapOptions& o, const SensorProfile& p) {
   const glass::DirectOptions& dd = defaults.mapping.direct;
   glass::DirectOptions& d = o.mapping.direct;
   if (o.profile_lobe) {
-    set(d.direct_sigma_deg, dd.direct_sigma_deg, p.direct_sigma_deg.value);
-    set(d.direct_peak, dd.direct_peak, std::clamp(p.direct_peak.value, 0.05, 0.999));
-    set(d.direct_floor, dd.direct_floor, std::clamp(p.direct_floor.value, 0.0, 0.5));
+    // Rounded far below the fit's standard errors (about 0.01 in the peak, 0.1 deg in sigma): the
+    // fit's last digits follow the float rounding of the log's coordinates, and a cell on the
+    // edge of two labels must not (the same log anywhere in the world maps to the same cells).
+    auto round_to = [](double x, double step) { return step * std::round(x / step); };
+    set(d.direct_sigma_deg, dd.direct_sigma_deg, std::max(0.1, round_to(p.direct_sigma_deg.value, 1e-3)));
+    set(d.direct_peak, dd.direct_peak, std::clamp(round_to(p.direct_peak.value, 1e-4), 0.05, 0.999));
+    set(d.direct_floor, dd.direct_floor, std::clamp(round_to(p.direct_floor.value, 1e-5), 0.0, 0.5));
   }
-  // Range noise: a reading lands within 3 sigma of its surface.
+  // Range noise: a pane's returns spread over the cells about it (PaneLanding), and a reading
+  // lands within 3 sigma of its surface.
+  set(d.range_sigma, dd.range_sigma, sigma);
   set(d.sigmoid_margin, dd.sigmoid_margin, std::max(dd.sigmoid_margin, 3.0 * sigma / res));
   set(o.mapping.beams.miss_margin, defaults.mapping.beams.miss_margin,
       std::max(defaults.mapping.beams.miss_margin, 3.0 * sigma));
@@ -196,7 +202,7 @@ bool applyProfile(MapOptions& o, const SensorProfile& p) {
   set(o.phantom.block_margin, defaults.phantom.block_margin, std::max(defaults.phantom.block_margin, 6.0 * sigma));
   set(o.vectorize.noise_floor, defaults.vectorize.noise_floor, std::max(defaults.vectorize.noise_floor, sigma / res));
   set(o.vectorize.glass.max_distance, defaults.vectorize.glass.max_distance,
-      std::max(defaults.vectorize.glass.max_distance, 2.5 * sigma));
+      std::max(defaults.vectorize.glass.max_distance, 1.5 * sigma));
   set(o.vectorize.wall.max_distance, defaults.vectorize.wall.max_distance,
       std::max(defaults.vectorize.wall.max_distance, 2.5 * sigma));
   // The walls onto the returns: a wall's returns within 2 sigma of its band's centre, and as far

@@ -4,9 +4,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "glassmap/core/error.hpp"
 #include "glassmap/core/labels.hpp"
@@ -188,11 +190,11 @@ TEST(Pipeline, ApplyProfileKeepsWhatTheCallerSet) {
   MapOptions o;
   o.mapping.direct.direct_peak = 0.42;  // set by the caller
   MapOptions noise_only = o;
+  noise_only.profile_lobe = false;
   applyProfile(noise_only, p);
   EXPECT_DOUBLE_EQ(noise_only.mapping.direct.direct_sigma_deg, MapOptions{}.mapping.direct.direct_sigma_deg);
   EXPECT_NEAR(noise_only.mapping.beams.miss_margin, 0.24, 1e-12);
-  o.profile_lobe = true;
-  applyProfile(o, p);
+  applyProfile(o, p);  // the lobe follows the profile by default
   EXPECT_DOUBLE_EQ(o.mapping.direct.direct_peak, 0.42);
   EXPECT_DOUBLE_EQ(o.mapping.direct.direct_sigma_deg, 9.0);
   EXPECT_DOUBLE_EQ(o.mapping.direct.direct_floor, 0.1);
@@ -238,6 +240,18 @@ TEST(Pipeline, MapFilesReadBackAsTheResult) {
   fs::remove_all(dir);
 }
 
+// Cells whose labels differ between two maps of one grid. The same log moved far away maps to the
+// same cells but for ties: simulated poses on round coordinates put beam ends and cell borders
+// exactly on each other, and the float rounding of the far coordinates (1e-10 m) breaks such a tie
+// the other way; a borderline beam may then flip a cell (1 of 250,000 here, found in stop 33 once
+// the classifier took the fitted lobe).
+std::size_t labelsDiffering(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+  if (a.size() != b.size()) return std::max(a.size(), b.size());
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) n += a[i] != b[i];
+  return n;
+}
+
 TEST(Pipeline, ResultsDoNotDependOnWhereTheFrameOriginLies) {
   // The same log in UTM-like coordinates (and farther) maps to the same cells and segments.
   const MapResult& near = defaultMap();
@@ -245,7 +259,7 @@ TEST(Pipeline, ResultsDoNotDependOnWhereTheFrameOriginLies) {
     LaserLog far = corridor().run.log;
     for (LaserScan& s : far.scans) s.laser_pose.t += offset;
     const MapResult r = mapLog(far);
-    EXPECT_EQ(r.evidence.label, near.evidence.label) << offset.transpose();
+    EXPECT_LE(labelsDiffering(r.evidence.label, near.evidence.label), 2u) << offset.transpose();
     EXPECT_LT((r.evidence.geometry.origin - offset - near.evidence.geometry.origin).norm(), 1e-6);
     ASSERT_EQ(r.floorplan.map.segments.size(), near.floorplan.map.segments.size()) << offset.transpose();
     for (std::size_t i = 0; i < near.floorplan.map.segments.size(); ++i) {
@@ -272,7 +286,10 @@ TEST(Pipeline, ALogKeptOnDiskMapsToTheSameResult) {
     disk.spooled = SpooledScans{spool, Vec2::Zero(), {}, 1u << 18};  // about 30 blocks
     const MapResult r = mapLog(disk);
     const MapResult& near = defaultMap();
-    EXPECT_EQ(r.evidence.label, near.evidence.label) << offset.transpose();
+    if (offset.isZero())
+      EXPECT_EQ(r.evidence.label, near.evidence.label);  // the same numbers: the same labels
+    else
+      EXPECT_LE(labelsDiffering(r.evidence.label, near.evidence.label), 2u) << offset.transpose();
     EXPECT_EQ(r.profile.range_sigma_m.value, near.profile.range_sigma_m.value);
     EXPECT_EQ(r.stats.beams, near.stats.beams);
     ASSERT_EQ(r.floorplan.map.segments.size(), near.floorplan.map.segments.size());

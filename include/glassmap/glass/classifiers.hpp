@@ -43,6 +43,7 @@ struct DirectOptions {
   double prior_occupied = 0.35;   ///< prior of OCC for a candidate cell (EMP gets the rest)
   int min_glass_hits = 2;         ///< fewer hits than this: glass labels cost kMaxCost
   double search_cells = 40.0;     ///< d_real is searched this far past the reading [cells]
+  double range_sigma = 0.0;       ///< range noise of the readings [m]: spreads a pane's returns (PaneLanding)
 };
 
 /// Per-candidate sums of the sigmoid terms over the beams ending in the cell (filled by the
@@ -98,10 +99,13 @@ class PaneLanding {
 };
 
 /// Labels every observed cell; candidates by the direct-reflection posterior, costs = -log posterior.
-/// A pane's returns are expected per cell as the grid spreads them (PaneLanding with the beams'
-/// miss_margin and no range noise: with the noise at the log's typical range, 5 cm on the random:7
-/// laser, mirror images of walls passed for glass, and the pane cells of that log kept 0.54 of the
-/// returns where the grid alone predicts 0.58).
+/// A pane's returns are expected per cell as the grid and the range noise spread them (PaneLanding
+/// with the beams' miss_margin and options.range_sigma: the profile's noise at the log's typical
+/// range, set by pipeline::applyProfile; 0 without a profile). With the noise, a noisy laser's
+/// panes are glass where the grid alone expected more hits per cell than they get (random:4,
+/// 2.7 cm + 1.1% of range: glass room cell F1@2 0.69 -> 1.00 in tools/sensor_sweep.py); before
+/// the mirror-image test (opaque_glass.hpp) the same noise let mirror images of walls pass for
+/// glass (random:7: precision 0.44), which that test now rejects.
 CellEvidence classifyDirect(const grid::HitMissGrid& counts, const grid::AngleHistograms& histograms,
                             const SigmoidSums& sums, const DirectOptions& options,
                             double miss_margin = grid::BeamOptions{}.miss_margin);

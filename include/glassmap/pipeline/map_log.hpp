@@ -62,13 +62,14 @@ struct MapOptions {
   std::optional<SensorProfile> sensor;
   bool calibrate = true;
   int calibration_rounds = 1;  ///< fit, re-map: this many times
-  /// The profile's glass lobe (peak, sigma, floor) replaces the direct classifier's. Off by
-  /// default: measured over five simulated scanners (tools/sensor_sweep.py), the classifier with
-  /// the true lobe maps better only for lobes a few degrees wide (a 4 deg / 0.55 lobe: paper-corridor
-  /// glass cell F1@2 0.84 -> 0.92) and worse for wide lobes with a floor (15 deg / floor 0.1:
-  /// glass-corridor 0.82 -> 0.47), because more glass cells then explain the hits around a pane.
-  /// The range-noise thresholds always follow the profile.
-  bool profile_lobe = false;
+  /// The profile's glass lobe (peak, sigma, floor) replaces the direct classifier's. On by
+  /// default since the classifier expects each pane cell's share of a pane's returns (PaneLanding):
+  /// over 28 random and 6 named simulated lasers (tools/sensor_sweep.py, modes default / lobe) the
+  /// fitted lobe maps as well or better on all but a few (faint lobes with a wide floor: random:16's
+  /// glass corridor 0.80 -> 0.67), and it is what finds the panes of faint lasers (peak 0.3-0.4:
+  /// random:18 / 21 / 27 glass room 0.38 / 0.39 / 0.68 -> 0.99-1.0). An unfitted lobe keeps the
+  /// default values (the calibration's prior). The range-noise thresholds always follow the profile.
+  bool profile_lobe = true;
   sensor::CalibrationOptions calibration;
 };
 
