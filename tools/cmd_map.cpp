@@ -300,6 +300,10 @@ const cli::Registrar reg(40, [](CLI::App& app) {
                 "default; --no-profile-lobe keeps the 2 deg / 0.9 lobe and lets only the range-noise thresholds\n"
                 "follow the profile). A lobe the calibration could not fit (too few beams on glass) keeps the\n"
                 "defaults either way (README, Calibration)");
+  cmd->add_flag("!--no-lobe-search", args->options.lobe_search,
+                "by default, when the first pass leaves too few beams on glass to fit the lobe (a faint laser),\n"
+                "the log is mapped once more with a broad lobe (peak 0.5, sigma 10 deg, floor 0.1) and the\n"
+                "lobe fitted against that floorplan; --no-lobe-search keeps the default lobe then");
   cmd->add_option("--calibration-rounds", args->options.calibration_rounds, "fit and re-map this many times")
       ->capture_default_str()
       ->check(CLI::Range(1, 5));

@@ -156,6 +156,7 @@ void bindMap(py::module_& m) {
         const py::object spool_dir = o.take("spool_dir");
         if (o.get("no_calibrate", flag)) options.calibrate = !flag;
         o.get("profile_lobe", options.profile_lobe);
+        o.get("lobe_search", options.lobe_search);
         o.range("calibration_rounds", options.calibration_rounds, 1, 5);
         o.finish();
         if (laser_id != 0 && py::isinstance<Log>(log_or_path))
@@ -196,7 +197,7 @@ void bindMap(py::module_& m) {
       "resolution [m], max_memory [MB], angle_bin [deg], range_cap, no_return_range, miss_margin [m],\n"
       "laser_id, sigmoid_margin, direct_sigma, direct_peak, prior_glass, prior_occupied, p_hit_empty,\n"
       "p_hit_occupied, min_glass_hits, heuristic_min_hits, heuristic_min_misses, sensor (a profile\n"
-      "file or dict), no_calibrate, profile_lobe, calibration_rounds, spool_dir (where a log read from a\n"
+      "file or dict), no_calibrate, profile_lobe, lobe_search, calibration_rounds, spool_dir (where a log read from a\n"
       "path whose scans need more than a quarter of max_memory is kept, in an unnamed temporary file;\n"
       "default: the system's temporary folder, TMPDIR). Returns a MapResult.");
 }

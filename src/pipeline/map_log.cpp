@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 #include "glassmap/core/error.hpp"
 #include "glassmap/vector/from_evidence.hpp"
@@ -132,6 +133,37 @@ bool fitProfile(const LaserLog& log, const VectorMap& plan, const MapOptions& op
   return true;
 }
 
+// The first pass left too few beams on glass to fit the lobe: a pass with the broad search lobe
+// (and the fitted range noise), and the fit against its floorplan when that one has the beams.
+void searchLobe(const LaserLog& log, const MapOptions& options, const Progress& progress,
+                sensor::CalibrationResult& fit) {
+  SensorProfile broad = fit.profile;
+  broad.direct_peak = {options.search_peak};
+  broad.direct_sigma_deg = {options.search_sigma_deg};
+  broad.direct_floor = {options.search_floor};
+  MapOptions wide = options;
+  wide.fit_floorplan = true;
+  applyProfile(wide, broad);
+  const MapResult look = mapOnce(log, wide, progress);
+  sensor::CalibrationResult refit;
+  char what[256];
+  if (fitProfile(log, surfacesOf(look.floorplan), options, SensorProfile{}, refit) &&
+      refit.profile.direct_sigma_deg.fitted) {
+    std::snprintf(what, sizeof what,
+                  "too few beams on glass for the lobe with the default one: fitted against a pass with a "
+                  "broad lobe (peak %.2g, sigma %.3g deg, floor %.2g), %zu beams on its glass",
+                  options.search_peak, options.search_sigma_deg, options.search_floor, refit.profile.glass_beams);
+    refit.warnings.insert(refit.warnings.begin(), what);
+    fit = std::move(refit);
+  } else {
+    std::snprintf(what, sizeof what,
+                  "a pass with a broad lobe (peak %.2g, sigma %.3g deg, floor %.2g) found no more glass to "
+                  "fit the lobe against",
+                  options.search_peak, options.search_sigma_deg, options.search_floor);
+    fit.warnings.push_back(what);
+  }
+}
+
 // The fields applyProfile sets are equal.
 bool sameThresholds(const MapOptions& a, const MapOptions& b) {
   const glass::DirectOptions &x = a.mapping.direct, &y = b.mapping.direct;
@@ -234,6 +266,8 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
     for (int round = 0; round < options.calibration_rounds; ++round) {
       if (progress) progress("calibrate", 0.0);
       if (!fitProfile(log, surfacesOf(pass.floorplan), options, profile, fit)) break;
+      if (round == 0 && options.lobe_search && options.profile_lobe && !fit.profile.direct_sigma_deg.fitted)
+        searchLobe(log, options, progress, fit);
       if (progress) progress("calibrate", 1.0);
       out.calibrated = true;
       profile = fit.profile;

@@ -70,6 +70,16 @@ struct MapOptions {
   /// random:18 / 21 / 27 glass room 0.38 / 0.39 / 0.68 -> 0.99-1.0). An unfitted lobe keeps the
   /// default values (the calibration's prior). The range-noise thresholds always follow the profile.
   bool profile_lobe = true;
+  /// When the first pass leaves too few beams on glass to fit the lobe (a faint laser: its panes
+  /// return too little for the default 2 deg / 0.9 lobe to call them glass), map once more with a
+  /// broad lobe (lobe_search below) and fit against that pass's floorplan; the fit replaces the
+  /// prior only when it has the beams (sensor::CalibrationOptions::min_glass_beams). With
+  /// profile_lobe and calibration.
+  bool lobe_search = true;
+  /// The lobe of that search: the middle of what scanners show (issue 13: sigma 2-20 deg, peak
+  /// 0.3-1, a floor of direct returns at any angle up to 0.15), wide enough that a pane returning
+  /// 10-20% of its beams is glass and, on glass-free floors (28 random lasers), nothing is.
+  double search_peak = 0.5, search_sigma_deg = 10.0, search_floor = 0.1;
   sensor::CalibrationOptions calibration;
 };
 
