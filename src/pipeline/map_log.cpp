@@ -164,6 +164,22 @@ void searchLobe(const LaserLog& log, const MapOptions& options, const Progress& 
   }
 }
 
+// A fitted lobe too wide for glass (MapOptions::max_lobe_sigma_deg) gives way to the prior's.
+void keepPlausibleLobe(const MapOptions& options, const SensorProfile& prior, sensor::CalibrationResult& fit) {
+  SensorProfile& p = fit.profile;
+  if (!p.direct_sigma_deg.fitted || p.direct_sigma_deg.value - 2.0 * p.direct_sigma_deg.se <= options.max_lobe_sigma_deg)
+    return;
+  char what[256];
+  std::snprintf(what, sizeof what,
+                "the fitted glass lobe (peak %.2f, sigma %.1f +- %.1f deg) is wider than glass shows (at most %.0f deg): "
+                "what the first pass took for panes is likely not glass; the map keeps the prior lobe",
+                p.direct_peak.value, p.direct_sigma_deg.value, p.direct_sigma_deg.se, options.max_lobe_sigma_deg);
+  fit.warnings.push_back(what);
+  p.direct_peak = prior.direct_peak;
+  p.direct_sigma_deg = prior.direct_sigma_deg;
+  p.direct_floor = prior.direct_floor;
+}
+
 // The fields applyProfile sets are equal.
 bool sameThresholds(const MapOptions& a, const MapOptions& b) {
   const glass::DirectOptions &x = a.mapping.direct, &y = b.mapping.direct;
@@ -268,6 +284,7 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
       if (!fitProfile(log, surfacesOf(pass.floorplan), options, profile, fit)) break;
       if (round == 0 && options.lobe_search && options.profile_lobe && !fit.profile.direct_sigma_deg.fitted)
         searchLobe(log, options, progress, fit);
+      keepPlausibleLobe(options, profile, fit);
       if (progress) progress("calibrate", 1.0);
       out.calibrated = true;
       profile = fit.profile;
