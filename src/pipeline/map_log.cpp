@@ -167,10 +167,11 @@ void searchLobe(const LaserLog& log, const MapOptions& options, const Progress& 
 // A fitted lobe too wide for glass (MapOptions::max_lobe_sigma_deg) gives way to the prior's.
 void keepPlausibleLobe(const MapOptions& options, const SensorProfile& prior, sensor::CalibrationResult& fit) {
   SensorProfile& p = fit.profile;
-  if (!p.direct_sigma_deg.fitted || p.direct_sigma_deg.value <= options.max_lobe_sigma_deg) return;
+  if (!p.direct_sigma_deg.fitted || p.direct_sigma_deg.value - 2.0 * p.direct_sigma_deg.se <= options.max_lobe_sigma_deg)
+    return;
   char what[256];
   std::snprintf(what, sizeof what,
-                "the fitted glass lobe (peak %.2f, sigma %.1f +- %.1f deg) is wider than glass shows (%.0f deg at most): "
+                "the fitted glass lobe (peak %.2f, sigma %.1f +- %.1f deg) is wider than glass shows (at most %.0f deg): "
                 "what the first pass took for panes is likely not glass; the map keeps the prior lobe",
                 p.direct_peak.value, p.direct_sigma_deg.value, p.direct_sigma_deg.se, options.max_lobe_sigma_deg);
   fit.warnings.push_back(what);
