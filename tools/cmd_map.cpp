@@ -298,8 +298,9 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_flag("--profile-lobe,!--no-profile-lobe", args->options.profile_lobe,
                 "the profile's glass lobe (peak, sigma, floor) replaces the classifier's defaults (on by\n"
                 "default; --no-profile-lobe keeps the 2 deg / 0.9 lobe and lets only the range-noise thresholds\n"
-                "follow the profile). A lobe the calibration could not fit (too few beams on glass) keeps the\n"
-                "defaults either way (README, Calibration)");
+                "follow the profile). A lobe the calibration could not fit (too few beams on glass, after the\n"
+                "search below) or one wider than glass shows (sigma - 2 se > 20 deg: door frames taken for\n"
+                "panes; said among the calibration warnings) keeps the defaults (README, Calibration)");
   cmd->add_flag("!--no-lobe-search", args->options.lobe_search,
                 "by default, when the first pass leaves too few beams on glass to fit the lobe (a faint laser),\n"
                 "the log is mapped once more with a broad lobe (peak 0.5, sigma 10 deg, floor 0.1) and the\n"
