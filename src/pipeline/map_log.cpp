@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <string>
 
 #include "glassmap/core/error.hpp"
 #include "glassmap/vector/from_evidence.hpp"
@@ -135,7 +136,7 @@ bool fitProfile(const LaserLog& log, const VectorMap& plan, const MapOptions& op
 
 // The first pass left too few beams on glass to fit the lobe: a pass with the broad search lobe
 // (and the fitted range noise), and the fit against its floorplan when that one has the beams.
-void searchLobe(const LaserLog& log, const MapOptions& options, const Progress& progress,
+void searchLobe(const LaserLog& log, const MapOptions& options, const SensorProfile& prior, const Progress& progress,
                 sensor::CalibrationResult& fit) {
   SensorProfile broad = fit.profile;
   broad.direct_peak = {options.search_peak};
@@ -145,35 +146,33 @@ void searchLobe(const LaserLog& log, const MapOptions& options, const Progress& 
   wide.fit_floorplan = true;
   applyProfile(wide, broad);
   const MapResult look = mapOnce(log, wide, progress);
+  char lobe[96];
+  std::snprintf(lobe, sizeof lobe, "a pass with a broad lobe (peak %.2g, sigma %.3g deg, floor %.2g)",
+                options.search_peak, options.search_sigma_deg, options.search_floor);
   sensor::CalibrationResult refit;
-  char what[256];
-  if (fitProfile(log, surfacesOf(look.floorplan), options, SensorProfile{}, refit) &&
-      refit.profile.direct_sigma_deg.fitted) {
-    std::snprintf(what, sizeof what,
-                  "too few beams on glass for the lobe with the default one: fitted against a pass with a "
-                  "broad lobe (peak %.2g, sigma %.3g deg, floor %.2g), %zu beams on its glass",
-                  options.search_peak, options.search_sigma_deg, options.search_floor, refit.profile.glass_beams);
-    refit.warnings.insert(refit.warnings.begin(), what);
+  if (fitProfile(log, surfacesOf(look.floorplan), options, prior, refit) && refit.profile.direct_sigma_deg.fitted) {
+    refit.warnings.insert(refit.warnings.begin(),
+                          "too few beams on glass to fit the lobe after the first pass: fitted against " +
+                              std::string(lobe) + ", " + std::to_string(refit.profile.glass_beams) +
+                              " beams on its glass");
     fit = std::move(refit);
   } else {
-    std::snprintf(what, sizeof what,
-                  "a pass with a broad lobe (peak %.2g, sigma %.3g deg, floor %.2g) found no more glass to "
-                  "fit the lobe against",
-                  options.search_peak, options.search_sigma_deg, options.search_floor);
-    fit.warnings.push_back(what);
+    fit.warnings.push_back(std::string(lobe) + " found no more glass to fit the lobe against");
   }
 }
 
 // A fitted lobe too wide for glass (MapOptions::max_lobe_sigma_deg) gives way to the prior's.
 void keepPlausibleLobe(const MapOptions& options, const SensorProfile& prior, sensor::CalibrationResult& fit) {
   SensorProfile& p = fit.profile;
-  if (!p.direct_sigma_deg.fitted || p.direct_sigma_deg.value - 2.0 * p.direct_sigma_deg.se <= options.max_lobe_sigma_deg)
+  if (!p.direct_sigma_deg.fitted ||
+      p.direct_sigma_deg.value - 2.0 * p.direct_sigma_deg.se <= options.max_lobe_sigma_deg)
     return;
   char what[256];
-  std::snprintf(what, sizeof what,
-                "the fitted glass lobe (peak %.2f, sigma %.1f +- %.1f deg) is wider than glass shows (at most %.0f deg): "
-                "what the first pass took for panes is likely not glass; the map keeps the prior lobe",
-                p.direct_peak.value, p.direct_sigma_deg.value, p.direct_sigma_deg.se, options.max_lobe_sigma_deg);
+  std::snprintf(
+      what, sizeof what,
+      "the fitted glass lobe (peak %.2f, sigma %.1f +- %.1f deg) is wider than glass shows (at most %.0f deg): "
+      "what the first pass took for panes is likely not glass; the map keeps the prior lobe",
+      p.direct_peak.value, p.direct_sigma_deg.value, p.direct_sigma_deg.se, options.max_lobe_sigma_deg);
   fit.warnings.push_back(what);
   p.direct_peak = prior.direct_peak;
   p.direct_sigma_deg = prior.direct_sigma_deg;
@@ -283,7 +282,7 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
       if (progress) progress("calibrate", 0.0);
       if (!fitProfile(log, surfacesOf(pass.floorplan), options, profile, fit)) break;
       if (round == 0 && options.lobe_search && options.profile_lobe && !fit.profile.direct_sigma_deg.fitted)
-        searchLobe(log, options, progress, fit);
+        searchLobe(log, options, profile, progress, fit);
       keepPlausibleLobe(options, profile, fit);
       if (progress) progress("calibrate", 1.0);
       out.calibrated = true;

@@ -103,7 +103,8 @@ class PaneLanding {
 /// with the beams' miss_margin and options.range_sigma: the profile's noise at the log's typical
 /// range, set by pipeline::applyProfile; 0 without a profile). With the noise, a noisy laser's
 /// panes are glass where the grid alone expected more hits per cell than they get (random:4,
-/// 2.7 cm + 1.1% of range: glass room cell F1@2 0.69 -> 1.00 in tools/sensor_sweep.py); before
+/// 2.7 cm + 1.1% of range, with the fitted lobe: glass room cell F1@2 0.69 without the noise, in
+/// a build not kept, 1.00 with it in tools/sensor_sweep.py); before
 /// the mirror-image test (opaque_glass.hpp) the same noise let mirror images of walls pass for
 /// glass (random:7: precision 0.44), which that test now rejects.
 CellEvidence classifyDirect(const grid::HitMissGrid& counts, const grid::AngleHistograms& histograms,
