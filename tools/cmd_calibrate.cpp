@@ -67,6 +67,9 @@ void run(CalibrateArgs& a) {
     std::printf("%-24s %zu (%zu aligned, median shift %.3f m / %.2f deg)\n", "scans used", r.fit.scans,
                 r.fit.aligned_scans, r.fit.median_alignment_m, r.fit.median_alignment_deg);
     std::printf("%-24s %zu on walls, %zu on glass\n", "beams", profile.wall_beams, profile.glass_beams);
+    if (r.fit.transient_panes > 0)
+      std::printf("%-24s %zu glass segments, %.1f m, left out of the glass fit (people walking by)\n", "transients",
+                  r.fit.transient_panes, r.fit.transient_length_m);
     line("range_sigma_m", profile.range_sigma_m, "m");
     line("range_sigma_rel", profile.range_sigma_rel, "");
     std::printf("%-24s %10.4g m against the walls, %.4g m within scans\n", "", r.fit.range_sigma_em_m,

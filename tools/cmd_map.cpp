@@ -291,20 +291,23 @@ const cli::Registrar reg(40, [](CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_flag("!--no-calibrate", args->options.calibrate,
                 "map once with the default thresholds (a 1-2 cm laser with a 2 deg glass lobe). By default\n"
-                "a first pass maps the log, the sensor profile is fitted against its floorplan (as\n"
-                "`glassmap calibrate`), and the log is mapped again with the thresholds the profile sets\n"
-                "(range-noise margins and the glass lobe; see --profile-lobe).\n"
+                "the range noise is estimated from neighbouring readings within scans, a first pass maps\n"
+                "the log with the margins it sets, the rest of the sensor profile is fitted against its\n"
+                "floorplan (as `glassmap calibrate`; panes whose beams return scan by scan, people walking\n"
+                "by, are left out), and the log is mapped again when the profile's glass lobe changes the\n"
+                "thresholds (see --profile-lobe).\n"
                 "Options given explicitly (--direct-sigma, --miss-margin, ...) are kept either way");
   cmd->add_flag("--profile-lobe,!--no-profile-lobe", args->options.profile_lobe,
                 "the profile's glass lobe (peak, sigma, floor) replaces the classifier's defaults (on by\n"
                 "default; --no-profile-lobe keeps the 2 deg / 0.9 lobe and lets only the range-noise thresholds\n"
                 "follow the profile). A lobe the calibration could not fit (too few beams on glass, after the\n"
-                "search below) or one wider than glass shows (sigma - 2 se > 20 deg: door frames taken for\n"
-                "panes; said among the calibration warnings) keeps the defaults (README, Calibration)");
-  cmd->add_flag("!--no-lobe-search", args->options.lobe_search,
-                "by default, when the first pass leaves too few beams on glass to fit the lobe (a faint laser),\n"
-                "the log is mapped once more with a broad lobe (peak 0.5, sigma 10 deg, floor 0.1) and the\n"
-                "lobe fitted against that floorplan; --no-lobe-search keeps the default lobe then");
+                "search below), one wider than glass shows (sigma - 2 se > 20 deg: door frames taken for\n"
+                "panes) or one fainter (peak + 2 se < 0.05) keeps the defaults, said among the calibration\n"
+                "warnings (README, Calibration)");
+  cmd->add_flag("--lobe-search,!--no-lobe-search", args->options.lobe_search,
+                "when the first pass leaves too few beams on glass to fit the lobe, map the log once more with\n"
+                "a broad lobe (peak 0.5, sigma 10 deg, floor 0.1) and fit the lobe against that floorplan (off\n"
+                "by default since the first pass has the range noise and sees faint panes; README, Calibration)");
   cmd->add_option("--calibration-rounds", args->options.calibration_rounds, "fit and re-map this many times")
       ->capture_default_str()
       ->check(CLI::Range(1, 5));

@@ -36,6 +36,8 @@ const std::vector<std::string>& reportKeys() {
                                                 "median_alignment_m",
                                                 "median_alignment_deg",
                                                 "refracted_beams",
+                                                "transient_panes",
+                                                "transient_length_m",
                                                 "range_sigma_walls_m",
                                                 "range_sigma_in_scan_m",
                                                 "angle_bins",

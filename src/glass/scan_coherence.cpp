@@ -1,4 +1,4 @@
-#include "scan_coherence.hpp"
+#include "glassmap/glass/scan_coherence.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -17,7 +17,7 @@
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 #include "line_votes.hpp"
-#include "scan_coherence.hpp"
+#include "glassmap/glass/scan_coherence.hpp"
 #include "weak_returns.hpp"
 
 namespace glassmap::glass {

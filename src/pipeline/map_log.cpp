@@ -151,28 +151,36 @@ void searchLobe(const LaserLog& log, const MapOptions& options, const SensorProf
                 options.search_peak, options.search_sigma_deg, options.search_floor);
   sensor::CalibrationResult refit;
   if (fitProfile(log, surfacesOf(look.floorplan), options, prior, refit) && refit.profile.direct_sigma_deg.fitted) {
-    refit.warnings.insert(refit.warnings.begin(),
-                          "too few beams on glass to fit the lobe after the first pass: fitted against " +
-                              std::string(lobe) + ", " + std::to_string(refit.profile.glass_beams) +
-                              " beams on its glass");
+    // What the first pass's fit said, then the search's.
+    std::vector<std::string> said;
+    for (const std::string& w : fit.warnings) said.push_back("first pass: " + w);
+    said.push_back("too few beams on glass to fit the lobe after the first pass: fitted against " + std::string(lobe) +
+                   ", " + std::to_string(refit.profile.glass_beams) + " beams on its glass");
+    refit.warnings.insert(refit.warnings.begin(), said.begin(), said.end());
     fit = std::move(refit);
   } else {
     fit.warnings.push_back(std::string(lobe) + " found no more glass to fit the lobe against");
   }
 }
 
-// A fitted lobe too wide for glass (MapOptions::max_lobe_sigma_deg) gives way to the prior's.
+// A fitted lobe too wide (MapOptions::max_lobe_sigma_deg) or too faint (min_lobe_peak) for glass
+// gives way to the prior's.
 void keepPlausibleLobe(const MapOptions& options, const SensorProfile& prior, sensor::CalibrationResult& fit) {
   SensorProfile& p = fit.profile;
-  if (!p.direct_sigma_deg.fitted ||
-      p.direct_sigma_deg.value - 2.0 * p.direct_sigma_deg.se <= options.max_lobe_sigma_deg)
-    return;
-  char what[256];
-  std::snprintf(
-      what, sizeof what,
-      "the fitted glass lobe (peak %.2f, sigma %.1f +- %.1f deg) is wider than glass shows (at most %.0f deg): "
-      "what the first pass took for panes is likely not glass; the map keeps the prior lobe",
-      p.direct_peak.value, p.direct_sigma_deg.value, p.direct_sigma_deg.se, options.max_lobe_sigma_deg);
+  if (!p.direct_sigma_deg.fitted) return;
+  const bool wide = p.direct_sigma_deg.value - 2.0 * p.direct_sigma_deg.se > options.max_lobe_sigma_deg;
+  const bool faint = p.direct_peak.value + 2.0 * p.direct_peak.se < options.min_lobe_peak;
+  if (!wide && !faint) return;
+  char why[64];
+  if (wide)
+    std::snprintf(why, sizeof why, "wider than glass shows (at most %.0f deg)", options.max_lobe_sigma_deg);
+  else
+    std::snprintf(why, sizeof why, "fainter than glass shows (a peak of at least %.2f)", options.min_lobe_peak);
+  char what[320];
+  std::snprintf(what, sizeof what,
+                "the fitted glass lobe (peak %.3f +- %.3f, sigma %.1f +- %.1f deg) is %s: what the first pass took "
+                "for panes is likely not glass; the map keeps the prior lobe",
+                p.direct_peak.value, p.direct_peak.se, p.direct_sigma_deg.value, p.direct_sigma_deg.se, why);
   fit.warnings.push_back(what);
   p.direct_peak = prior.direct_peak;
   p.direct_sigma_deg = prior.direct_sigma_deg;
@@ -232,7 +240,7 @@ bool applyProfile(MapOptions& o, const SensorProfile& p) {
     // edge of two labels must not (the same log anywhere in the world maps to the same cells).
     auto round_to = [](double x, double step) { return step * std::round(x / step); };
     set(d.direct_sigma_deg, dd.direct_sigma_deg, std::max(0.1, round_to(p.direct_sigma_deg.value, 1e-3)));
-    set(d.direct_peak, dd.direct_peak, std::clamp(round_to(p.direct_peak.value, 1e-4), 0.05, 0.999));
+    set(d.direct_peak, dd.direct_peak, std::clamp(round_to(p.direct_peak.value, 1e-4), o.min_lobe_peak, 0.999));
     set(d.direct_floor, dd.direct_floor, std::clamp(round_to(p.direct_floor.value, 1e-5), 0.0, 0.5));
   }
   // Range noise: a pane's returns spread over the cells about it (PaneLanding), and a reading
@@ -272,11 +280,15 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
     out = mapOnce(log, o, progress);
     out.profile = *options.sensor;
   } else if (calibrating) {
+    // The range noise needs no map (neighbouring readings within scans): the first pass has it
+    // already, and the fit against its floorplan gives the same (SigmaSource::Local), so that a log
+    // whose lobe keeps the prior's is mapped once.
+    SensorProfile profile;
     MapOptions first = options;
+    if (sensor::inScanNoise(log, options.calibration, profile)) applyProfile(first, profile);
     first.fit_floorplan = true;
     MapResult pass = mapOnce(log, first, progress);
     MapOptions last = first;  // the options of `pass`
-    SensorProfile profile;
     sensor::CalibrationResult fit;
     for (int round = 0; round < options.calibration_rounds; ++round) {
       if (progress) progress("calibrate", 0.0);

@@ -364,6 +364,8 @@ nlohmann::json calibrationJson(const SensorProfile& profile, const CalibrateLogR
   j["median_alignment_m"] = r.fit.median_alignment_m;
   j["median_alignment_deg"] = r.fit.median_alignment_deg;
   j["refracted_beams"] = r.fit.refracted_beams;
+  j["transient_panes"] = r.fit.transient_panes;
+  j["transient_length_m"] = r.fit.transient_length_m;
   j["range_sigma_walls_m"] = r.fit.range_sigma_em_m;
   j["range_sigma_in_scan_m"] = r.fit.range_sigma_local_m;
   j["angle_bins"] = binsJson(r.fit.bins);

@@ -5,15 +5,19 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <string>
 
 #include <Eigen/Dense>
+#include <boost/math/distributions/normal.hpp>
 
 #include "glassmap/core/angles.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
+#include "glassmap/glass/scan_coherence.hpp"
 #include "nelder_mead.hpp"
 #include "range_noise.hpp"
 
@@ -33,11 +37,13 @@ struct WallBeam {
 // A beam whose first surface is glass, with its three modes (no refraction offset).
 struct GlassBeam {
   float theta_deg;
-  float z;          // reading [m], +inf for max / no return
-  float d_g;        // range to the pane [m]
-  float e_mirror;   // along the mirrored ray [m], +inf when nothing is met
-  float e_through;  // along the continued ray to a wall [m], +inf when nothing is met
-  int panes;        // panes crossed by the continued ray
+  float z;               // reading [m], +inf for max / no return
+  float d_g;             // range to the pane [m]
+  float e_mirror;        // along the mirrored ray [m], +inf when nothing is met
+  float e_through;       // along the continued ray to a wall [m], +inf when nothing is met
+  int panes;             // panes crossed by the continued ray
+  std::int32_t segment;  // the pane's index in the map
+  std::uint32_t scan;    // the scan's index among those used
 };
 
 struct ScanRecords {
@@ -162,6 +168,7 @@ ScanRecords collect(const RayCaster& caster, const LaserScan& scan, const Calibr
       if (std::min((at - pane.a).norm(), (at - pane.b).norm()) < o.pane_end_margin_m) continue;
       GlassBeam b = glassModes(caster, pose.t, d, hit, z_max);
       b.z = z;
+      b.segment = hit.segment;
       rec.glass.push_back(b);
     }
   }
@@ -351,6 +358,72 @@ void fitMirror(const Binned& d, SensorProfile& p) {
   p.normal_floor = {floor, se[1], true};
 }
 
+// The scans a calibration uses: at most max_scans, spread evenly over the log, gathered in one
+// pass (a spooled log is read once).
+std::vector<LaserScan> pickScans(const LaserLog& log, std::size_t max_scans) {
+  std::vector<std::size_t> picked;
+  const std::size_t n = log.scanCount(), want = std::max<std::size_t>(1, std::min(max_scans, n));
+  for (std::size_t k = 0; k < want; ++k) picked.push_back(k * n / want);
+  std::vector<LaserScan> scans;
+  scans.reserve(picked.size());
+  forEachScanBlock(log, [&](std::span<const LaserScan> block, std::size_t first) {
+    for (std::size_t k = scans.size(); k < picked.size() && picked[k] < first + block.size(); ++k)
+      scans.push_back(block[picked[k] - first]);
+  });
+  return scans;
+}
+
+// The noise fit of neighbouring readings within scans (no map in it), as calibrate's Local source.
+detail::RangeNoiseFit inScanFit(const std::vector<detail::RangeResidual>& in_scan) {
+  return detail::fitRangeNoise(in_scan, 1.5, 500, true);
+}
+
+// The median range of the scans' returns [m]: where the log's readings typically are.
+double medianReturnRange(const std::vector<LaserScan>& scans) {
+  std::vector<double> ranges;
+  for (const LaserScan& scan : scans)
+    for (std::size_t i = 0; i < scan.ranges.size(); ++i)
+      if (scan.isReturn(i) && scan.ranges[i] >= 0.05f) ranges.push_back(scan.ranges[i]);
+  return detail::median(ranges);
+}
+
+// The panes of `map` whose near-normal beams return scan by scan, all or none, as a person walking
+// by does (glass/scan_coherence.hpp): what a first pass drew as glass on people's arcs. Their beams
+// would fit a lobe to people; the caller leaves them out. Counted, with a warning, in `result`.
+template <class GateOf>
+std::vector<bool> transientPanes(const std::vector<GlassBeam>& glass, const VectorMap& map, const CalibrationOptions& o,
+                                 const GateOf& gateOf, CalibrationResult& result) {
+  std::vector<bool> transient(map.segments.size(), false);
+  if (!(o.max_transient_p > 0.0)) return transient;
+  std::vector<glass::sparse::NearNormalBeam> near;
+  for (const GlassBeam& b : glass) {
+    if (b.theta_deg > o.transient_angle_deg) continue;
+    const double gate = gateOf(b);
+    if (b.z < b.d_g - gate) continue;  // short of the pane: neither returned nor passed
+    near.push_back({static_cast<std::uint32_t>(b.segment), b.scan, static_cast<float>(deg2rad(b.theta_deg)),
+                    std::abs(b.z - b.d_g) < gate});
+  }
+  const std::vector<glass::sparse::ScanCoherence> coherence =
+      glass::sparse::scanCoherence(near, map.segments.size(), deg2rad(o.transient_bin_deg));
+  const double max_z = -boost::math::quantile(boost::math::normal(), o.max_transient_p);
+  double length = 0.0;
+  for (std::size_t s = 0; s < coherence.size(); ++s) {
+    if (coherence[s].z <= max_z || coherence[s].correlation < o.min_transient_correlation) continue;
+    transient[s] = true;
+    ++result.transient_panes;
+    length += map.segments[s].length();
+  }
+  result.transient_length_m = length;
+  if (result.transient_panes > 0) {
+    char what[200];
+    std::snprintf(what, sizeof what,
+                  "%zu glass segment(s), %.1f m, answer scan by scan, all near-normal beams or none, as people "
+                  "walking by do: left out of the glass fit",
+                  result.transient_panes, length);
+    result.warnings.push_back(what);
+  }
+  return transient;
+}
 }  // namespace
 
 CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const CalibrationOptions& o) {
@@ -359,30 +432,25 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
                    [](const MapSegment& s) { return s.material == Material::Wall; }))
     throw Error("the floorplan has no wall to calibrate against");
   const RayCaster caster(map);
-  // The scans used, spread evenly over the log, gathered in one pass (a spooled log is read once).
-  std::vector<std::size_t> picked;
-  const std::size_t n = log.scanCount(), want = std::max<std::size_t>(1, std::min(o.max_scans, n));
-  for (std::size_t k = 0; k < want; ++k) picked.push_back(k * n / want);
-  std::vector<LaserScan> scans;
-  scans.reserve(picked.size());
-  forEachScanBlock(log, [&](std::span<const LaserScan> block, std::size_t first) {
-    for (std::size_t k = scans.size(); k < picked.size() && picked[k] < first + block.size(); ++k)
-      scans.push_back(block[picked[k] - first]);
-  });
-  std::vector<ScanRecords> records(picked.size());
-  tbb::parallel_for(std::size_t{0}, picked.size(), [&](std::size_t k) { records[k] = collect(caster, scans[k], o); });
+  const std::vector<LaserScan> scans = pickScans(log, o.max_scans);
+  std::vector<ScanRecords> records(scans.size());
+  tbb::parallel_for(std::size_t{0}, scans.size(), [&](std::size_t k) { records[k] = collect(caster, scans[k], o); });
 
   CalibrationResult result;
   result.profile = o.prior;
-  result.scans = picked.size();
+  result.scans = scans.size();
   std::vector<WallBeam> walls;
   std::vector<GlassBeam> glass;
   std::vector<double> shifts, turns;
   std::vector<detail::RangeResidual> in_scan;
-  for (const ScanRecords& r : records) {
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    const ScanRecords& r = records[k];
     in_scan.insert(in_scan.end(), r.in_scan.begin(), r.in_scan.end());
     walls.insert(walls.end(), r.walls.begin(), r.walls.end());
-    glass.insert(glass.end(), r.glass.begin(), r.glass.end());
+    for (GlassBeam b : r.glass) {
+      b.scan = static_cast<std::uint32_t>(k);
+      glass.push_back(b);
+    }
     if (r.aligned) {
       ++result.aligned_scans;
       shifts.push_back(r.shift_m);
@@ -425,24 +493,31 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
       p.range_sigma_rel = {f.rel, f.rel_se, true};
     }
   }
-  const detail::RangeNoiseFit local = detail::fitRangeNoise(in_scan, 1.5, 500, true);
+  const detail::RangeNoiseFit local = inScanFit(in_scan);
   if (local.ok) {
     result.range_sigma_local_m =
         rangeSigmaAt(SensorProfile{.range_sigma_m = {local.sigma0}, .range_sigma_rel = {local.rel}}, p.typical_range_m);
     if (o.sigma_source == SigmaSource::Local) {
+      // The noise, and the range it is typical at, from the scans alone (inScanNoise).
       p.range_sigma_m = {local.sigma0, local.sigma0_se, true};
       p.range_sigma_rel = {local.rel, local.rel_se, local.rel_fitted};
+      p.typical_range_m = medianReturnRange(scans);
     }
   } else if (o.sigma_source == SigmaSource::Local) {
     result.warnings.push_back("too few neighbouring returns for the in-scan noise estimate: sigma from the walls");
   }
 
   // Glass: match each reading to a mode, then fit the lobes.
+  // The gate follows the noise at the reading's range.
+  auto gateOf = [&](const GlassBeam& b) {
+    return std::max(o.min_gate_m, o.gate_sigmas * rangeSigmaAt(p, b.z < b.d_g + 50.f ? b.z : b.d_g));
+  };
+  const std::vector<bool> transient = transientPanes(glass, map, o, gateOf, result);
   std::vector<std::pair<float, bool>> direct_obs, mirror_obs;
   std::vector<double> offsets;
   for (const GlassBeam& b : glass) {
-    // The gate follows the noise at the reading's range.
-    const double gate = std::max(o.min_gate_m, o.gate_sigmas * rangeSigmaAt(p, b.z < b.d_g + 50.f ? b.z : b.d_g));
+    if (transient[static_cast<std::size_t>(b.segment)]) continue;
+    const double gate = gateOf(b);
     const double wide = gate + 0.10;  // the continued ray also carries an unknown offset
     // A reading short of the pane never reached it (a person, clutter): it says nothing of glass.
     if (b.z < b.d_g - gate) continue;
@@ -505,6 +580,22 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
     p.glass_offset_m = {m, 1.2533 * mad / std::sqrt(static_cast<double>(offsets.size())), true};
   }
   return result;
+}
+
+bool inScanNoise(const LaserLog& log, const CalibrationOptions& o, SensorProfile& profile) {
+  if (log.scanCount() == 0) return false;
+  const std::vector<LaserScan> scans = pickScans(log, o.max_scans);
+  std::vector<std::vector<detail::RangeResidual>> per_scan(scans.size());
+  tbb::parallel_for(std::size_t{0}, scans.size(),
+                    [&](std::size_t k) { detail::inScanResiduals(scans[k], per_scan[k]); });
+  std::vector<detail::RangeResidual> in_scan;
+  for (const auto& r : per_scan) in_scan.insert(in_scan.end(), r.begin(), r.end());
+  const detail::RangeNoiseFit local = inScanFit(in_scan);
+  if (!local.ok) return false;
+  profile.range_sigma_m = {local.sigma0, local.sigma0_se, true};
+  profile.range_sigma_rel = {local.rel, local.rel_se, local.rel_fitted};
+  profile.typical_range_m = medianReturnRange(scans);
+  return true;
 }
 
 }  // namespace glassmap::sensor

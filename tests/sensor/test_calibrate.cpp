@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <random>
 
 #include "glassmap/core/angles.hpp"
@@ -18,6 +19,7 @@ namespace glassmap {
 namespace {
 
 namespace fs = std::filesystem;
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 sim::Scene corridor(double range_sigma, double lobe_sigma_deg, double peak) {
   sim::Scene scene = sim::loadScene(fs::path(GLASSMAP_SOURCE_DIR) / "maps" / "glass-corridor" / "scene.yaml");
@@ -138,6 +140,96 @@ TEST(Calibrate, RefusesAnEmptyLogAndAPlanWithoutWalls) {
   for (const MapSegment& s : scene.map.segments)
     if (s.material == Material::Glass) glass_only.segments.push_back(s);
   EXPECT_THROW(sensor::calibrate(simulateFor(scene, 2.0), glass_only), Error);
+}
+
+// A plan with a 3 m "pane" 2 m before a wall, and a log of a laser driving past it. `answers`
+// decides whether scan k's beam at incidence theta [deg] comes back from the pane; a beam that does
+// not ends on the wall.
+template <class Answers>
+LaserLog paneLog(const VectorMap& plan, Answers answers) {
+  const RayCaster caster(plan);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  LaserLog log;
+  for (int k = 0; k < 600; ++k) {
+    LaserScan scan;
+    scan.timestamp = 0.1 * k;
+    scan.start_angle = -deg2rad(90.0);
+    scan.angular_step = deg2rad(0.25);
+    scan.max_range = 20.0;
+    scan.laser_pose = Pose2(Vec2(0.0, -1.0 + 2.0 * k / 600.0), 0.0);
+    for (int i = 0; i <= 720; ++i) {
+      const Vec2 d(std::cos(scan.beamAngle(static_cast<std::size_t>(i))),
+                   std::sin(scan.beamAngle(static_cast<std::size_t>(i))));
+      RayHit hit = caster.cast(scan.laser_pose.t, d, scan.max_range);
+      double range = hit.range;
+      if (hit.hit() && hit.material == Material::Glass && !answers(k, rad2deg(hit.incidence), rng)) {
+        const RayHit behind = caster.cast(scan.laser_pose.t + hit.range * d, d, scan.max_range, hit.segment);
+        range = behind.hit() ? hit.range + behind.range : kInf;
+      }
+      scan.ranges.push_back(std::isfinite(range) ? static_cast<float>(range + noise(rng)) : kNoReturn);
+    }
+    log.scans.push_back(std::move(scan));
+  }
+  return log;
+}
+
+// People walking by, drawn as glass by a first pass, answer every beam while there and none
+// before or after: their "pane" is left out of the glass fit, where it would fit a lobe to people.
+// A real pane's beams answer one by one at its lobe's rate: it stays in, and its lobe is fitted.
+TEST(Calibrate, PanesThatAnswerScanByScanArePeopleNotGlass) {
+  VectorMap plan;
+  plan.segments.push_back({Vec2(4.0, -12.0), Vec2(4.0, 12.0), Material::Wall});
+  plan.segments.push_back({Vec2(2.0, -1.5), Vec2(2.0, 1.5), Material::Glass});
+  SensorProfile lobe;
+  lobe.direct_peak.value = 0.8;
+  lobe.direct_sigma_deg.value = 5.0;
+  const LaserLog pane = paneLog(plan, [&](int, double theta, std::mt19937_64& rng) {
+    return std::bernoulli_distribution(directProbability(lobe, theta))(rng);
+  });
+  // Someone stands in front of the "pane" now and then: 5 visits of 3 s.
+  const LaserLog people = paneLog(plan, [](int k, double, std::mt19937_64&) { return k % 120 < 30; });
+
+  const sensor::CalibrationResult glass = sensor::calibrate(pane, plan);
+  EXPECT_EQ(glass.transient_panes, 0u);
+  ASSERT_TRUE(glass.profile.direct_sigma_deg.fitted);
+  EXPECT_NEAR(glass.profile.direct_sigma_deg.value, 5.0, 0.75);
+
+  const sensor::CalibrationResult passers_by = sensor::calibrate(people, plan);
+  EXPECT_EQ(passers_by.transient_panes, 1u);
+  EXPECT_NEAR(passers_by.transient_length_m, 3.0, 1e-9);
+  EXPECT_FALSE(passers_by.profile.direct_sigma_deg.fitted);
+  EXPECT_TRUE(std::any_of(passers_by.warnings.begin(), passers_by.warnings.end(),
+                          [](const std::string& w) { return w.find("people") != std::string::npos; }));
+  // Without the test the people fit a lobe: a wide one, at every angle.
+  sensor::CalibrationOptions keep_all;
+  keep_all.max_transient_p = 0.0;
+  const sensor::CalibrationResult fooled = sensor::calibrate(people, plan, keep_all);
+  EXPECT_EQ(fooled.transient_panes, 0u);
+  EXPECT_TRUE(fooled.profile.direct_sigma_deg.fitted);
+}
+
+// The in-scan noise needs no plan, and calibrate's Local source gives the very same numbers (the
+// map pipeline maps a log once when its lobe keeps the prior's: its first pass has the noise).
+TEST(Calibrate, InScanNoiseBeforeAnyPlanIsWhatTheLocalFitGives) {
+  sim::Scene scene = corridor(0.004, 2.0, 0.9);
+  scene.laser.range_sigma_rel = 0.008;
+  const LaserLog log = simulateFor(scene, 20.0);
+  SensorProfile before;
+  ASSERT_TRUE(sensor::inScanNoise(log, {}, before));
+  EXPECT_TRUE(before.range_sigma_m.fitted);
+  EXPECT_NEAR(rangeSigmaAt(before, 4.0), std::hypot(0.004, 0.032), 0.006);
+  sensor::CalibrationOptions local;
+  local.sigma_source = sensor::SigmaSource::Local;
+  const SensorProfile after = sensor::calibrate(log, scene.map, local).profile;
+  EXPECT_EQ(before.range_sigma_m.value, after.range_sigma_m.value);
+  EXPECT_EQ(before.range_sigma_rel.value, after.range_sigma_rel.value);
+  EXPECT_EQ(before.typical_range_m, after.typical_range_m);
+  EXPECT_GT(before.typical_range_m, 0.5);
+  // Too few readings: nothing estimated, the profile untouched.
+  SensorProfile none;
+  EXPECT_FALSE(sensor::inScanNoise(LaserLog{}, {}, none));
+  EXPECT_FALSE(none.range_sigma_m.fitted);
 }
 
 TEST(Calibrate, ProfileCurvesFollowTheirParameters) {

@@ -43,7 +43,9 @@ struct SensorProfile {
   std::size_t wall_beams = 0;      ///< beams the beam-model fit used
   std::size_t glass_beams = 0;     ///< beams whose first surface was glass
   double max_range = 0.0;          ///< the scans' max range [m] (0 = unknown)
-  double typical_range_m = 0.0;    ///< median range of the wall returns the fit used [m] (0 = unknown)
+  /// Median range of the log's returns [m] (0 = unknown): of the wall returns the EM used, or, with
+  /// the in-scan noise estimate (sensor::inScanNoise), of every return of the scans it used.
+  double typical_range_m = 0.0;
 };
 
 /// Range noise sigma at range r [m]: hypot(range_sigma_m, range_sigma_rel * r).

@@ -54,11 +54,12 @@ struct MapOptions {
   /// The floorplan's walls and clutter moved onto the log's returns (vector/scan_fit.hpp); off
   /// with scan_fit.enabled = false.
   vector::ScanFitOptions scan_fit;
-  /// The laser's profile. Unset and `calibrate` on (the default): a first pass maps the log with
-  /// the default thresholds, the profile is fitted against that pass's floorplan
-  /// (sensor/calibrate.hpp), and the map is made again with the thresholds the profile sets
-  /// (applyProfile), unless they are the ones the first pass used (then it is the map). Set: used
-  /// as is, one pass.
+  /// The laser's profile. Unset and `calibrate` on (the default): the range noise is estimated
+  /// from neighbouring readings within scans (sensor::inScanNoise, no map needed), a first pass
+  /// maps the log with the thresholds it sets, the rest of the profile is fitted against that
+  /// pass's floorplan (sensor/calibrate.hpp), and the map is made again with the thresholds the
+  /// profile sets (applyProfile), unless they are the ones the first pass used (then it is the map:
+  /// a log whose glass lobe keeps the prior's is mapped once). Set: used as is, one pass.
   std::optional<SensorProfile> sensor;
   bool calibrate = true;
   int calibration_rounds = 1;  ///< fit, re-map: this many times
@@ -70,12 +71,17 @@ struct MapOptions {
   /// row by more than 0.005 (random:8's paper-corridor 0.94 -> 0.92). An unfitted lobe keeps the
   /// default values (the calibration's prior). The range-noise thresholds always follow the profile.
   bool profile_lobe = true;
-  /// When the first pass leaves too few beams on glass to fit the lobe (a faint laser: its panes
-  /// return too little for the default 2 deg / 0.9 lobe to call them glass), map once more with a
-  /// broad lobe (lobe_search below) and fit against that pass's floorplan; the fit replaces the
+  /// When the first pass leaves too few beams on glass to fit the lobe, map once more with a
+  /// broad lobe (the search lobe below) and fit against that pass's floorplan; the fit replaces the
   /// prior only when it has the beams (sensor::CalibrationOptions::min_glass_beams). With
-  /// profile_lobe and calibration.
-  bool lobe_search = true;
+  /// profile_lobe and calibration. On by default at stop 33, when the first pass had no range noise
+  /// and faint lasers' panes returned too little for it (random:16's glass room: 0 -> 0.83). Off
+  /// since the first pass has the in-scan noise: it fits the lobe on each of 29 random lasers and
+  /// on fainter variants of random:16 (peak 0.15-0.3), so that the search changed no row of the
+  /// sweep (tools/sensor_sweep.py --modes default,search); it fired where the first pass drew no
+  /// glass or only people (glass-free floors: a pass more; with people walking it fitted a peak of
+  /// 0.013, min_lobe_peak below).
+  bool lobe_search = false;
   /// The lobe of that search: the middle of what scanners show (issue 13: sigma 2-20 deg, peak
   /// 0.3-1, a floor of direct returns at any angle up to 0.15), wide enough that a pane returning
   /// 10-20% of its beams is glass and, on glass-free floors (28 random lasers), nothing is.
@@ -91,6 +97,12 @@ struct MapOptions {
   /// too (office-floor 0.999 -> 0.966). The map keeps the prior lobe then and says so among the
   /// calibration warnings; a profile given with --sensor is used as is.
   double max_lobe_sigma_deg = 20.0;
+  /// A fitted lobe whose peak is below this by more than two standard errors is not taken either:
+  /// near its normal a pane mirrors the beam straight back (paper 2.1; scanners show peaks of
+  /// 0.3-1, issue 13), so a lobe that returns almost nothing there was fitted to surfaces that are
+  /// not glass (on a glass-free floor with people walking, the broad search's pass fitted a peak of
+  /// 0.013). The same bound is the lowest peak applyProfile gives the classifier.
+  double min_lobe_peak = 0.05;
   sensor::CalibrationOptions calibration;
 };
 

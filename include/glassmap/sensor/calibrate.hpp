@@ -10,7 +10,9 @@
 ///     mirrored ray (reflection) or the continued ray (refraction). Binomial maximum likelihood fits
 ///     P(direct | theta) = floor + (peak - floor) exp(-theta^2 / 2 sigma^2) and, for beams that did
 ///     not come back from the pane, P(reflected | theta) = floor + (1 - floor) exp(-lambda (90 - theta));
-///     the median extra range of refracted readings is the offset through a pane.
+///     the median extra range of refracted readings is the offset through a pane. Panes whose
+///     near-normal beams return scan by scan, all or none (people walking by, drawn as glass by a
+///     first pass), are left out first (glass/scan_coherence.hpp).
 ///
 /// Standard errors come from the inverse observed information of each fit. Parameters the log
 /// cannot tell (too few glass beams, no reflection ever possible) keep the prior's value and are
@@ -40,10 +42,19 @@ struct CalibrationOptions {
   double gate_sigmas = 4.0;             ///< a reading within this many sigma of a glass mode is that mode
   double min_gate_m = 0.04;             ///< ... but at least this close [m]
   double pane_end_margin_m = 0.20;      ///< glass beams meeting a pane this close to an end are left out [m]
-  std::size_t min_glass_beams = 300;    ///< fewer beams on glass: the glass parameters keep the prior
-  double chart_bin_deg = 2.0;           ///< width of the per-angle table [deg]
-  int em_iterations = 200;              ///< EM stops here or when no weight moves by 1e-6
-  SensorProfile prior;                  ///< values kept where the data cannot tell
+  /// A pane whose beams within transient_angle_deg of its normal return together within scans
+  /// (one-sided p of the score test below max_transient_p, and a within-scan correlation of at least
+  /// min_transient_correlation; rates per transient_bin_deg of incidence) is a transient, people
+  /// walking by, and stays out of the glass fit: the thresholds of glass/sparse_panes.hpp.
+  /// max_transient_p = 0 keeps every pane.
+  double transient_angle_deg = 3.0;
+  double max_transient_p = 1e-3;
+  double min_transient_correlation = 0.25;
+  double transient_bin_deg = 0.5;
+  std::size_t min_glass_beams = 300;  ///< fewer beams on glass: the glass parameters keep the prior
+  double chart_bin_deg = 2.0;         ///< width of the per-angle table [deg]
+  int em_iterations = 200;            ///< EM stops here or when no weight moves by 1e-6
+  SensorProfile prior;                ///< values kept where the data cannot tell
 };
 
 struct CalibrationResult {
@@ -56,8 +67,16 @@ struct CalibrationResult {
   std::size_t refracted_beams = 0;    ///< readings matched to the continued ray
   double range_sigma_em_m = 0.0;      ///< sigma from the wall residuals (EM) [m]
   double range_sigma_local_m = 0.0;   ///< sigma from neighbouring readings within scans [m] (0: too few)
+  std::size_t transient_panes = 0;    ///< glass segments left out of the glass fit as transients
+  double transient_length_m = 0.0;    ///< ...their length [m]
   std::vector<std::string> warnings;  ///< what could not be estimated, and why
 };
+
+/// The range noise of the log's laser from neighbouring readings within scans, no map involved
+/// (the scans and the fit of calibrate's SigmaSource::Local, so that calibrate then gives the same
+/// numbers): range_sigma_m, range_sigma_rel and typical_range_m (the median range of the scans'
+/// returns) of `profile` set. False, `profile` unchanged, when the scans have too few of them.
+bool inScanNoise(const LaserLog& log, const CalibrationOptions& options, SensorProfile& profile);
 
 /// Estimates the profile of the log's laser against `map` (scans at their laser poses, map frame).
 /// Throws Error when the log has no scan or the map no wall.
