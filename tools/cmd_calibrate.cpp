@@ -133,7 +133,8 @@ const cli::Registrar reg(38, [](CLI::App& app) {
   cmd->add_option("--min-glass-beams", a->options.calibration.min_glass_beams,
                   "fewer beams on glass: the glass parameters keep their defaults")
       ->capture_default_str();
-  cmd->add_option("--rounds", a->options.calibration_rounds, "without --map: fit and re-map this many times")
+  cmd->add_option("--rounds", a->options.calibration_rounds,
+                  "without --map: fit and re-map at most this many times (as map --calibration-rounds)")
       ->capture_default_str()
       ->check(CLI::Range(1, 5));
   cmd->add_option("--resolution", a->options.mapping.resolution, "without --map: cell size of the mapping [m]")

@@ -308,7 +308,9 @@ const cli::Registrar reg(40, [](CLI::App& app) {
                 "when the first pass leaves too few beams on glass to fit the lobe, map the log once more with\n"
                 "a broad lobe (peak 0.5, sigma 10 deg, floor 0.1) and fit the lobe against that floorplan (off\n"
                 "by default since the first pass has the range noise and sees faint panes; README, Calibration)");
-  cmd->add_option("--calibration-rounds", args->options.calibration_rounds, "fit and re-map this many times")
+  cmd->add_option("--calibration-rounds", args->options.calibration_rounds,
+                  "fit and re-map at most this many times: a fit within one standard error of the last\n"
+                  "(lobe peak, sigma, floor) ends it, its map kept")
       ->capture_default_str()
       ->check(CLI::Range(1, 5));
   cli::addGeorefOptions(*cmd, args->georef);

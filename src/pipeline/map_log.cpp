@@ -187,6 +187,15 @@ void keepPlausibleLobe(const MapOptions& options, const SensorProfile& prior, se
   p.direct_floor = prior.direct_floor;
 }
 
+// A refitted lobe within one standard error of the last in peak, sigma and floor (a lobe that is
+// not fitted is settled where it was).
+bool lobeSettled(const SensorProfile& last, const SensorProfile& refit) {
+  if (!refit.direct_sigma_deg.fitted) return true;
+  const auto near = [](const Estimate& a, const Estimate& b) { return std::abs(a.value - b.value) <= b.se; };
+  return last.direct_sigma_deg.fitted && near(last.direct_peak, refit.direct_peak) &&
+         near(last.direct_sigma_deg, refit.direct_sigma_deg) && near(last.direct_floor, refit.direct_floor);
+}
+
 // The fields applyProfile sets are equal.
 bool sameThresholds(const MapOptions& a, const MapOptions& b) {
   const glass::DirectOptions &x = a.mapping.direct, &y = b.mapping.direct;
@@ -289,14 +298,23 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
     first.fit_floorplan = true;
     MapResult pass = mapOnce(log, first, progress);
     MapOptions last = first;  // the options of `pass`
+    int passes = 1;
     sensor::CalibrationResult fit;
     for (int round = 0; round < options.calibration_rounds; ++round) {
       if (progress) progress("calibrate", 0.0);
-      if (!fitProfile(log, surfacesOf(pass.floorplan), options, profile, fit)) break;
-      if (round == 0 && options.lobe_search && options.profile_lobe && !fit.profile.direct_sigma_deg.fitted)
-        searchLobe(log, options, profile, progress, fit);
-      keepPlausibleLobe(options, profile, fit);
+      sensor::CalibrationResult next;
+      if (!fitProfile(log, surfacesOf(pass.floorplan), options, profile, next)) {
+        if (round == 0) fit = std::move(next);
+        break;
+      }
+      if (round == 0 && options.lobe_search && options.profile_lobe && !next.profile.direct_sigma_deg.fitted)
+        searchLobe(log, options, profile, progress, next);
+      keepPlausibleLobe(options, profile, next);
       if (progress) progress("calibrate", 1.0);
+      // The lobe fitted against a map made with the last fit's within its standard errors of it:
+      // that map is the one (the fit and the map agree).
+      if (round > 0 && lobeSettled(profile, next.profile)) break;
+      fit = std::move(next);
       out.calibrated = true;
       profile = fit.profile;
       profile.source = "calibrated from the log";
@@ -307,9 +325,11 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
       if (sameThresholds(o, last)) break;
       pass = mapOnce(log, o, progress);
       last = o;
+      ++passes;
     }
     const bool calibrated = out.calibrated;
     out = std::move(pass);
+    out.passes = passes;
     // The first pass fitted a floorplan to calibrate against; the caller asked for none.
     if (!options.fit_floorplan && !options.prune_unfitted_glass) {
       out.floorplan = {};
@@ -373,7 +393,7 @@ CalibrateLogResult calibrateLog(const LaserLog& input, const VectorMap* floorpla
       throw Error("cannot calibrate: the map of the log has no wall");
     if (progress) progress("calibrate", 1.0);
     out.own_floorplan = true;
-    out.rounds = o.calibration_rounds + 1;
+    out.rounds = map.passes;
     countSegments(plan, out.floorplan_walls, out.floorplan_panes);
   }
   out.seconds = secondsSince(t0);
