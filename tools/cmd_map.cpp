@@ -300,8 +300,8 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_flag("--profile-lobe,!--no-profile-lobe", args->options.profile_lobe,
                 "the profile's glass lobe (peak, sigma, floor) replaces the classifier's defaults (on by\n"
                 "default; --no-profile-lobe keeps the 2 deg / 0.9 lobe and lets only the range-noise thresholds\n"
-                "follow the profile). A lobe the calibration could not fit (too few beams on glass, after the\n"
-                "search below), one wider than glass shows (sigma - 2 se > 20 deg: door frames taken for\n"
+                "follow the profile). A lobe the calibration could not fit (too few beams on glass, after\n"
+                "--lobe-search if given), one wider than glass shows (sigma - 2 se > 20 deg: door frames taken for\n"
                 "panes) or one fainter (peak + 2 se < 0.05) keeps the defaults, said among the calibration\n"
                 "warnings (README, Calibration)");
   cmd->add_flag("--lobe-search,!--no-lobe-search", args->options.lobe_search,

@@ -15,7 +15,7 @@ no-lobe (`--no-profile-lobe`: the fitted range noise but the default 2 deg / 0.9
 before stop 33), lobe (`--profile-lobe`, the default since stop 33), search / no-search (`--lobe-search`: a second look with a broad lobe for a lobe the first pass could not fit, the default at stop 33; `--no-lobe-search`: none, the default since stop 34), raw (the default without the phantom test and the pane fit of the cells), sparse
 (`--sparse-panes`: the search for panes too faint for the classifiers, on by default since it rejects
 people walking by), no-sparse (`--no-sparse-panes`: the default without it), direct-sparse (both),
-rounds1 / rounds2 (`--calibration-rounds 1` / `2`: fit and map at most once / twice; 1 was the default before stop 34, 3 since), mrf-w1 / mrf-w4 (the default with `--mrf-weight 1` / `4`: the MRF weight before stop 28, and a
+rounds1 / rounds2 (`--calibration-rounds 1` / `2`: fit and map at most once / twice; 1 was the default before stop 34, 2 since), mrf-w1 / mrf-w4 (the default with `--mrf-weight 1` / `4`: the MRF weight before stop 28, and a
 stronger one).
 
 With --people D every log is simulated with D people per 100 m^2 walking (`simulate --people`).

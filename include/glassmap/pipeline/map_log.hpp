@@ -68,8 +68,11 @@ struct MapOptions {
   /// default lobe, and a faint laser's panes are glass there only where they return most: the
   /// lobe fitted against them is too narrow and faint (random:35: peak 0.17, sigma 9.9 deg, floor
   /// 0.006 against the true 0.32 / 16.9 / 0.09); mapped with it, more of the panes are glass, and
-  /// the next fit is closer (0.24 / 13.4 / 0.05).
-  int calibration_rounds = 3;
+  /// the next fit is closer (0.24 / 13.4 / 0.05). Two rounds by default: a log without glass
+  /// whose first pass drew "panes" (door frames, people) fits a lobe that does not settle
+  /// (Freiburg 079: peak 0.17 / sigma 2.0 deg, then 0.19 / 13.7, then 0.13 / 20.0), and a third
+  /// round mapped it a fourth time (19 s of CPU against 12) for a plan that explained fewer returns.
+  int calibration_rounds = 2;
   /// The profile's glass lobe (peak, sigma, floor) replaces the direct classifier's. On by
   /// default since the classifier expects each pane cell's share of a pane's returns (PaneLanding):
   /// over 29 random lasers (tools/sensor_sweep.py --modes default,no-lobe) it finds the panes of
