@@ -15,7 +15,7 @@ no-lobe (`--no-profile-lobe`: the fitted range noise but the default 2 deg / 0.9
 before stop 33), lobe (`--profile-lobe`, the default since stop 33), search / no-search (`--lobe-search`: a second look with a broad lobe for a lobe the first pass could not fit, the default at stop 33; `--no-lobe-search`: none, the default since stop 34), raw (the default without the phantom test and the pane fit of the cells), sparse
 (`--sparse-panes`: the search for panes too faint for the classifiers, on by default since it rejects
 people walking by), no-sparse (`--no-sparse-panes`: the default without it), direct-sparse (both),
-rounds1 / rounds2 (`--calibration-rounds 1` / `2`: fit and map at most once / twice; 1 was the default before stop 34, 2 since), mrf-w1 / mrf-w4 (the default with `--mrf-weight 1` / `4`: the MRF weight before stop 28, and a
+rounds1 / rounds2 / rounds3 (`--calibration-rounds 1` / `2` / `3`: fit and map at most once / twice / three times; rounds1-search: one round with `--lobe-search`; 1 was the default before stop 34, 2 since), mrf-w1 / mrf-w4 (the default with `--mrf-weight 1` / `4`: the MRF weight before stop 28, and a
 stronger one).
 
 With --people D every log is simulated with D people per 100 m^2 walking (`simulate --people`).
@@ -38,7 +38,7 @@ PROFILES = ["sick-lms200", "hokuyo-urg04lx", "hokuyo-utm30lx", "rplidar-a2", "si
 SCENES = ["paper-corridor", "glass-corridor", "office-floor", "no-glass", "glass-room"]
 MODES = ["default", "direct", "uncalibrated", "oracle"]
 MODE_ARGS = {"default": [], "direct": ["--method", "direct"], "uncalibrated": ["--no-calibrate"],
-             "oracle": ["--profile-lobe"], "lobe": ["--profile-lobe"], "no-lobe": ["--no-profile-lobe"], "no-search": ["--no-lobe-search"], "search": ["--lobe-search"], "rounds1": ["--calibration-rounds", "1"], "rounds2": ["--calibration-rounds", "2"], "raw": ["--keep-phantoms", "--keep-unfitted-glass"],
+             "oracle": ["--profile-lobe"], "lobe": ["--profile-lobe"], "no-lobe": ["--no-profile-lobe"], "no-search": ["--no-lobe-search"], "search": ["--lobe-search"], "rounds1": ["--calibration-rounds", "1"], "rounds1-search": ["--calibration-rounds", "1", "--lobe-search"], "rounds2": ["--calibration-rounds", "2"], "rounds3": ["--calibration-rounds", "3"], "raw": ["--keep-phantoms", "--keep-unfitted-glass"],
              "direct-raw": ["--method", "direct", "--keep-phantoms", "--keep-unfitted-glass"],
              "sparse": ["--sparse-panes"], "no-sparse": ["--no-sparse-panes"], "mrf-w1": ["--mrf-weight", "1"], "mrf-w4": ["--mrf-weight", "4"], "direct-sparse": ["--method", "direct", "--sparse-panes"]}
 # Lasers that are no named profile: scene keys laid over the scene's laser and glass.

@@ -5,6 +5,8 @@
 #include <map>
 #include <vector>
 
+#include <boost/math/distributions/normal.hpp>
+
 namespace glassmap::glass::sparse {
 
 std::vector<ScanCoherence> scanCoherence(std::vector<NearNormalBeam>& beams, std::size_t runs, double bin_width) {
@@ -64,6 +66,12 @@ std::vector<ScanCoherence> scanCoherence(std::vector<NearNormalBeam>& beams, std
     begin = end;
   }
   return out;
+}
+
+bool isTransient(const ScanCoherence& c, double max_p, double min_correlation) {
+  if (!(max_p > 0.0) || c.correlation < min_correlation) return false;
+  // The z a static surface exceeds with probability max_p.
+  return c.z > -boost::math::quantile(boost::math::normal(), max_p);
 }
 
 }  // namespace glassmap::glass::sparse

@@ -10,14 +10,13 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <Eigen/Geometry>
-#include <boost/math/distributions/normal.hpp>
 #include <boost/math/special_functions/beta.hpp>
 
+#include "glassmap/glass/scan_coherence.hpp"
 #include "glassmap/grid/angle_histograms.hpp"
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 #include "line_votes.hpp"
-#include "glassmap/glass/scan_coherence.hpp"
 #include "weak_returns.hpp"
 
 namespace glassmap::glass {
@@ -387,8 +386,6 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       near);
   const std::vector<sparse::ScanCoherence> coherence =
       sparse::scanCoherence(near, runs.size(), deg2rad(o.lobe_bin_deg));
-  // The z a static surface exceeds with probability max_transient_p.
-  const double max_z = -boost::math::quantile(boost::math::normal(), o.max_transient_p);
   std::vector<Run> seen_through;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const double total = static_cast<double>(pass[r] + hit[r]);
@@ -399,7 +396,7 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     }
     runs[r].transmission = static_cast<double>(pass[r]) / total;
     runs[r].coherence_z = coherence[r].z;
-    if (coherence[r].z > max_z && coherence[r].correlation >= o.min_transient_correlation) {
+    if (sparse::isTransient(coherence[r], o.max_transient_p, o.min_transient_correlation)) {
       ++stats.rejected_transient;
       continue;
     }

@@ -12,7 +12,6 @@
 #include <string>
 
 #include <Eigen/Dense>
-#include <boost/math/distributions/normal.hpp>
 
 #include "glassmap/core/angles.hpp"
 #include "glassmap/core/error.hpp"
@@ -136,7 +135,7 @@ GlassBeam glassModes(const RayCaster& caster, const Vec2& origin, const Vec2& di
   return b;
 }
 
-ScanRecords collect(const RayCaster& caster, const LaserScan& scan, const CalibrationOptions& o) {
+ScanRecords collect(const RayCaster& caster, const LaserScan& scan, std::uint32_t index, const CalibrationOptions& o) {
   ScanRecords rec;
   detail::inScanResiduals(scan, rec.in_scan);
   Pose2 pose = scan.laser_pose;
@@ -169,6 +168,7 @@ ScanRecords collect(const RayCaster& caster, const LaserScan& scan, const Calibr
       GlassBeam b = glassModes(caster, pose.t, d, hit, z_max);
       b.z = z;
       b.segment = hit.segment;
+      b.scan = index;
       rec.glass.push_back(b);
     }
   }
@@ -405,10 +405,9 @@ std::vector<bool> transientPanes(const std::vector<GlassBeam>& glass, const Vect
   }
   const std::vector<glass::sparse::ScanCoherence> coherence =
       glass::sparse::scanCoherence(near, map.segments.size(), deg2rad(o.transient_bin_deg));
-  const double max_z = -boost::math::quantile(boost::math::normal(), o.max_transient_p);
   double length = 0.0;
   for (std::size_t s = 0; s < coherence.size(); ++s) {
-    if (coherence[s].z <= max_z || coherence[s].correlation < o.min_transient_correlation) continue;
+    if (!glass::sparse::isTransient(coherence[s], o.max_transient_p, o.min_transient_correlation)) continue;
     transient[s] = true;
     ++result.transient_panes;
     length += map.segments[s].length();
@@ -434,7 +433,8 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
   const RayCaster caster(map);
   const std::vector<LaserScan> scans = pickScans(log, o.max_scans);
   std::vector<ScanRecords> records(scans.size());
-  tbb::parallel_for(std::size_t{0}, scans.size(), [&](std::size_t k) { records[k] = collect(caster, scans[k], o); });
+  tbb::parallel_for(std::size_t{0}, scans.size(),
+                    [&](std::size_t k) { records[k] = collect(caster, scans[k], static_cast<std::uint32_t>(k), o); });
 
   CalibrationResult result;
   result.profile = o.prior;
@@ -443,14 +443,10 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
   std::vector<GlassBeam> glass;
   std::vector<double> shifts, turns;
   std::vector<detail::RangeResidual> in_scan;
-  for (std::size_t k = 0; k < records.size(); ++k) {
-    const ScanRecords& r = records[k];
+  for (const ScanRecords& r : records) {
     in_scan.insert(in_scan.end(), r.in_scan.begin(), r.in_scan.end());
     walls.insert(walls.end(), r.walls.begin(), r.walls.end());
-    for (GlassBeam b : r.glass) {
-      b.scan = static_cast<std::uint32_t>(k);
-      glass.push_back(b);
-    }
+    glass.insert(glass.end(), r.glass.begin(), r.glass.end());
     if (r.aligned) {
       ++result.aligned_scans;
       shifts.push_back(r.shift_m);

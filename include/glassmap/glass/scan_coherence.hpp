@@ -35,4 +35,10 @@ struct ScanCoherence {
 /// its own beams).
 std::vector<ScanCoherence> scanCoherence(std::vector<NearNormalBeam>& beams, std::size_t runs, double bin_width);
 
+/// Whether a run is a transient: a static surface would show its z with a one-sided probability
+/// below max_p, and its beams share at least min_correlation of their variation within scans (with
+/// many beams a small shared part is significant: a pane's scans share their pose error). The test
+/// of the sparse-pane search and of the calibration's glass fit.
+bool isTransient(const ScanCoherence& c, double max_p, double min_correlation);
+
 }  // namespace glassmap::glass::sparse

@@ -70,8 +70,9 @@ struct MapOptions {
   /// 0.006 against the true 0.32 / 16.9 / 0.09); mapped with it, more of the panes are glass, and
   /// the next fit is closer (0.24 / 13.4 / 0.05). Two rounds by default: a log without glass
   /// whose first pass drew "panes" (door frames, people) fits a lobe that does not settle
-  /// (Freiburg 079: peak 0.17 / sigma 2.0 deg, then 0.19 / 13.7, then 0.13 / 20.0), and a third
-  /// round mapped it a fourth time (19 s of CPU against 12) for a plan that explained fewer returns.
+  /// (Freiburg 079, `glassmap map --calibration-rounds 1 / 2 / 3`, stats.json `sensor`: peak 0.17 /
+  /// sigma 2.0 deg, then 0.19 / 13.7, then 0.13 / 20.0), and a third round mapped it a fourth time
+  /// (19.2 s of CPU on one core against 15.7-17.3) for a plan that explained a point fewer returns.
   int calibration_rounds = 2;
   /// The profile's glass lobe (peak, sigma, floor) replaces the direct classifier's. On by
   /// default since the classifier expects each pane cell's share of a pane's returns (PaneLanding):
@@ -86,9 +87,9 @@ struct MapOptions {
   /// prior only when it has the beams (sensor::CalibrationOptions::min_glass_beams). With
   /// profile_lobe and calibration. On by default at stop 33, when the first pass had no range noise
   /// and faint lasers' panes returned too little for it (random:16's glass room: 0 -> 0.83). Off
-  /// since the first pass has the in-scan noise: it fits the lobe on each of 29 random lasers and
-  /// on fainter variants of random:16 (peak 0.15-0.3), so that the search changed no row of the
-  /// sweep (tools/sensor_sweep.py --modes default,search); it fired where the first pass drew no
+  /// since the first pass has the in-scan noise: it fits the lobe on every glass scene of 29 random
+  /// lasers, so that the search changed no row of the sweep (tools/sensor_sweep.py --modes
+  /// rounds1,rounds1-search); it fired where the first pass drew no
   /// glass or only people (glass-free floors: a pass more; with people walking it fitted a peak of
   /// 0.013, min_lobe_peak below).
   bool lobe_search = false;
