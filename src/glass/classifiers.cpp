@@ -324,8 +324,8 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
   tbb::enumerable_thread_specific<Scratch> scratch([&] {
     return Scratch{std::vector<double>(static_cast<std::size_t>(e.num_labels)), {}};
   });
-  // One candidate's row of costs (from its own histogram only).
-  auto row = [&](std::size_t i, std::vector<double>& ll, std::vector<int>& active) {
+  // One candidate's log-likelihoods plus log priors (from its own histogram only).
+  auto likelihoods = [&](std::size_t i, std::vector<double>& ll, std::vector<int>& active) {
     const std::int32_t id = ids[i];
     const std::uint16_t* h = hist.hits(id);
     const std::uint16_t* m = hist.misses(id);
@@ -349,7 +349,10 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
       }
       ll[glassLabel(k)] = v;
     }
-    if (total_h < o.min_glass_hits) {  // too little evidence for glass: EMP or OCC only
+    return total_h;
+  };
+  auto row = [&](std::size_t i, std::vector<double>& ll, std::vector<int>& active) {
+    if (likelihoods(i, ll, active) < o.min_glass_hits) {  // too little evidence for glass: EMP or OCC only
       for (int k = 0; k < bins; ++k) ll[glassLabel(k)] = -std::numeric_limits<double>::infinity();
     }
     normalise(ll, &e.cost[i * static_cast<std::size_t>(e.num_labels)]);
@@ -360,6 +363,40 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
                       for (std::size_t i = r.begin(); i != r.end(); ++i) row(i, sc.ll, sc.active);
                     });
   labelByMinimumCost(e);
+
+  // A pane met near its normal in one cell of three leaves its other cells with the hits of any
+  // angle, which tell glass from empty little: the classifier calls them EMP on the prior alone.
+  // Such a cell next to glass may stand in for the pane's unseen glass in the MRF at its EMP cost
+  // plus the evidence its own beams hold against glass of its glass neighbours' orientations (the
+  // log-likelihood ratio without the priors, and without the min_glass_hits rule, which is about
+  // labels, not evidence).
+  e.neutral_cost.assign(e.cells.size(), std::numeric_limits<float>::infinity());
+  const auto& g = e.geometry;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, e.cells.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      Scratch& sc = scratch.local();
+                      std::vector<int> panes;
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                        if (isGlass(e.label[e.cells[i]])) continue;
+                        const auto c = g.cellOf(e.cells[i]);
+                        panes.clear();
+                        for (int dy = -1; dy <= 1; ++dy)
+                          for (int dx = -1; dx <= 1; ++dx) {
+                            const int x = c.x + dx, y = c.y + dy;
+                            if ((dx | dy) == 0 || x < 0 || y < 0 || x >= g.width || y >= g.height) continue;
+                            const std::uint8_t l = e.label[g.index(x, y)];
+                            if (isGlass(l)) panes.push_back(glassBin(l));
+                          }
+                        if (panes.empty()) continue;
+                        likelihoods(i, sc.ll, sc.active);
+                        double against = 0.0;
+                        for (int k : panes)
+                          against = std::max(against, (sc.ll[kEmpty] - lp_emp) - (sc.ll[glassLabel(k)] - lp_glass));
+                        e.neutral_cost[i] = std::min(
+                            CellEvidence::kMaxCost,
+                            static_cast<float>(e.cost[i * static_cast<std::size_t>(e.num_labels) + kEmpty] + against));
+                      }
+                    });
   return e;
 }
 

@@ -36,6 +36,8 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
   if (L != numLabels(ev.bins)) throw Error("evidence has inconsistent label count");
   if (options.tile < 8) throw Error("MRF tile must be at least 8 cells", {}, 0, "tile");
   if (options.unary_weight <= 0) throw Error("unary weight must be positive", {}, 0, "unary_weight");
+  if (!ev.neutral_cost.empty() && ev.neutral_cost.size() != ev.cells.size())
+    throw Error("evidence has a neutral cost per candidate or none", {}, 0, "neutral_cost");
   LabelEnergy psi_only;
   PsiWeights pane_weights;
   pane_weights.pane_angle_full_deg = options.pane_angle_full_deg;
@@ -111,7 +113,13 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
           const float* cost = ev.costs(i);
           for (int l = 0; l < L; ++l)
             e.unary[c * Lx + l] = static_cast<int32_t>(std::lround(options.unary_weight * cost[l] * kCostScale));
-          if (neutral) e.unary[c * Lx + L] = kNeverCost;  // the fixed cells' label only
+          if (neutral) {  // the fixed cells' label, and the candidates' where the classifier offers it
+            const bool offered = options.candidates_neutral && !ev.neutral_cost.empty() &&
+                                 std::isfinite(ev.neutral_cost[i]);
+            e.unary[c * Lx + L] =
+                offered ? static_cast<int32_t>(std::lround(options.unary_weight * ev.neutral_cost[i] * kCostScale))
+                        : kNeverCost;
+          }
           e.active[c] = 1;
           const std::uint8_t own = ev.label[cell];
           labels[c] = own == kUnknown ? static_cast<std::uint16_t>(kEmpty) : own;
@@ -125,7 +133,8 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
           const std::uint32_t cell = ev.cells[i];
           const int x = static_cast<int>(cell % static_cast<std::uint32_t>(W)) - x0;
           const int y = static_cast<int>(cell / static_cast<std::uint32_t>(W)) - y0;
-          ev.label[cell] = static_cast<std::uint8_t>(labels[static_cast<std::size_t>(y) * e.width + x]);
+          const std::uint16_t l = labels[static_cast<std::size_t>(y) * e.width + x];
+          ev.label[cell] = static_cast<std::uint8_t>(l == L ? kEmpty : l);
         }
       }
     }

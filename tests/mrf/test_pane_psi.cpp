@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include "glassmap/core/angles.hpp"
@@ -27,13 +28,17 @@ void addCandidate(glass::CellEvidence& ev, std::uint32_t cell, int best, float e
 // A 3 m pane through the middle of a 64 x 64 grid at `angle_deg`, rasterised as a thin digital
 // line. Every `step`-th pane cell is a glass candidate (glass of its angle bin by `margin` nats
 // over EMP); with `flanked`, the cells beside the line are EMP candidates (range noise spreads a
-// pane's hits into them: glass there costs 10 nats). Every other cell was only crossed by beams.
+// pane's hits into them: glass there costs 10 nats). With `gap_against` >= 0, the pane cells
+// between the glass candidates are EMP candidates too (a floor of direct returns or spurious
+// readings put hits in them; glass costs them the prior's 6 nats) whose neutral label costs their
+// EMP cost plus `gap_against` nats (their beams' evidence against glass of the pane's angle).
+// Every other cell was only crossed by beams.
 struct Pane {
   glass::CellEvidence ev;
   std::set<std::uint32_t> glass;  // the pane cells that are candidates
 };
 
-Pane pane(double angle_deg, int step, float margin, bool flanked, int spread = 0) {
+Pane pane(double angle_deg, int step, float margin, bool flanked, int spread = 0, float gap_against = -1.0f) {
   Pane p;
   glass::CellEvidence& ev = p.ev;
   ev.geometry.width = kSize;
@@ -62,8 +67,13 @@ Pane pane(double angle_deg, int step, float margin, bool flanked, int spread = 0
     if (k++ % step == 0) p.glass.insert(c);
   all.insert(p.glass.begin(), p.glass.end());
   all.insert(flank.begin(), flank.end());
+  if (gap_against >= 0.0f) all.insert(line.begin(), line.end());
   for (const std::uint32_t c : all) {  // candidates in ascending cell order
-    if (p.glass.count(c)) {
+    ev.neutral_cost.push_back(std::numeric_limits<float>::infinity());
+    if (line.count(c) && !p.glass.count(c)) {
+      addCandidate(ev, c, kEmpty, 0.0f, 6.0f);
+      ev.neutral_cost.back() = gap_against;
+    } else if (p.glass.count(c)) {
       // With `spread`, the normal estimates wander over bin - spread .. bin + spread along the pane
       // (a wide lobe does that), in a fixed pattern.
       const int wander = spread == 0 ? 0 : static_cast<int>(c * 7u % static_cast<unsigned>(2 * spread + 1)) - spread;
@@ -123,5 +133,18 @@ TEST(PanePsi, NormalEstimatesInAdjacentBinsAreOnePane) {
     mrf::RefineOptions flat;
     flat.pane_angle_full_deg = 1e-6;
     EXPECT_LT(recallAfterMrf(pane(angle, 1, 1.5f, true, 1), flat), 0.8) << angle;
+  }
+}
+
+TEST(PanePsi, GapsWithHitsThatCannotTellGlassFromEmptyCostThePaneNothing) {
+  for (const double angle : {0.0, 25.0, 45.0, 65.0, 110.0}) {
+    // The gaps' beams never met the pane near its normal: as free next to glass as cells no beam
+    // ended in.
+    EXPECT_EQ(recallAfterMrf(pane(angle, 3, 0.5f, false, 0, 0.0f)), 1.0) << angle;
+    mrf::RefineOptions off;
+    off.candidates_neutral = false;
+    EXPECT_LT(recallAfterMrf(pane(angle, 3, 0.5f, false, 0, 0.0f), off), 0.5) << angle;
+    // Gaps whose beams met the pane's normal and passed hold evidence against it: they charge.
+    EXPECT_LT(recallAfterMrf(pane(angle, 3, 0.5f, false, 0, 5.0f)), 0.5) << angle;
   }
 }

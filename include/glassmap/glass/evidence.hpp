@@ -26,6 +26,11 @@ struct CellEvidence {
   std::vector<std::uint8_t> label;   ///< [cell] label, dense
   std::vector<std::uint32_t> cells;  ///< candidate cells, ascending linear indices
   std::vector<float> cost;           ///< [i * num_labels + l] for candidate i
+  /// [i] cost [nats] of the MRF's neutral label ("not drawn as glass, but may be glass no beam met
+  /// near its normal") for a candidate next to the classifier's glass: its EMP cost plus the
+  /// evidence its beams hold against glass of those neighbours' orientations. Infinite where not
+  /// offered; empty when the classifier offers it nowhere (see mrf::RefineOptions).
+  std::vector<float> neutral_cost;
 
   static constexpr float kMaxCost = 50.0f;  ///< cap of a cost [nats]
 

@@ -22,6 +22,12 @@ struct RefineOptions {
   /// other cells looking empty), so a sparsely seen pane is not charged for its gaps. They still
   /// count as EMP next to EMP and OCC. false: they count as EMP everywhere (the paper's grid).
   bool unseen_glass_neutral = true;
+  /// With unseen_glass_neutral, candidate cells may take the neutral label too, at the cost the
+  /// classifier gives it (CellEvidence::neutral_cost): a pane met near its normal in one cell of
+  /// three leaves its other cells with hits from any angle (a sensor's floor of direct returns,
+  /// spurious readings), which makes them candidates without telling glass from empty. They come
+  /// out EMP.
+  bool candidates_neutral = true;
   MrfOptions solve;  ///< stopping rules per tile
 };
 
