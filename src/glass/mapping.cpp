@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "glassmap/core/error.hpp"
 #include "glassmap/grid/no_returns.hpp"
@@ -24,8 +25,44 @@ Method parseMethod(const std::string& name) {
   throw Error("unknown method '" + name + "' (expected heuristic or direct)", {}, 0, "method");
 }
 
+namespace {
+
+// The options with what only the classifiers read set to the defaults: equal keys, equal passes.
+MappingOptions passKey(const MappingOptions& o) {
+  MappingOptions k = o;
+  k.max_memory_bytes = 0;
+  k.heuristic = {};
+  const DirectOptions& d = o.direct;
+  k.direct = {};
+  if (o.method == Method::Direct) {  // integrateSigmoid reads these
+    k.direct.sigmoid_margin = d.sigmoid_margin;
+    k.direct.p_hit_occ = d.p_hit_occ;
+    k.direct.occ_hit_floor = d.occ_hit_floor;
+    k.direct.search_cells = d.search_cells;
+  }
+  return k;
+}
+
+}  // namespace
+
+struct BeamPasses::Data {
+  const LaserLog* log = nullptr;
+  std::size_t scans = 0;
+  MappingOptions key;
+  grid::HitMissGrid counts;
+  std::optional<grid::AngleHistograms> hist;
+  SigmoidSums sums;
+  MappingStats stats;  // of the passes (counts, beams, their seconds)
+  explicit Data(const grid::GridGeometry& g) : counts(g) {}
+};
+
+BeamPasses::BeamPasses() = default;
+BeamPasses::~BeamPasses() = default;
+BeamPasses::BeamPasses(BeamPasses&&) noexcept = default;
+BeamPasses& BeamPasses::operator=(BeamPasses&&) noexcept = default;
+
 MappingResult mapLog(const LaserLog& log, const MappingOptions& o,
-                     const std::function<void(const char*, double)>& progress) {
+                     const std::function<void(const char*, double)>& progress, BeamPasses* passes) {
   const double bins_real = 180.0 / o.angle_bin_deg;
   const int bins = static_cast<int>(std::lround(bins_real));
   if (!(o.angle_bin_deg > 0.0) || std::abs(bins_real - bins) > 1e-9 || bins > 235) {
@@ -39,42 +76,62 @@ MappingResult mapLog(const LaserLog& log, const MappingOptions& o,
     return [&progress, stage](double f) { progress(stage, f); };
   };
 
-  auto t0 = std::chrono::steady_clock::now();
-  const grid::GridGeometry geometry = grid::geometryForLog(log, o.resolution, o.beams, o.margin);
-  const double cells = static_cast<double>(geometry.width) * static_cast<double>(geometry.height);
-  const double need = cells * kDenseBytesPerCell;
-  if (need > static_cast<double>(o.max_memory_bytes)) {
-    char text[320];
-    std::snprintf(text, sizeof text,
-                  "the grid of %d x %d cells at %.3g m would need about %.0f MB (%.0f bytes per cell), over "
-                  "the limit of %.0f MB: raise the limit (--max-memory), use a coarser resolution, or check "
-                  "the log for poses far outside the building",
-                  geometry.width, geometry.height, o.resolution, need / 1e6, kDenseBytesPerCell,
-                  static_cast<double>(o.max_memory_bytes) / 1e6);
-    throw Error(text, {}, 0, "max_memory");
-  }
-  grid::HitMissGrid counts(geometry);
-  const grid::IntegrationStats pass1 = grid::integrateCounts(log, o.beams, counts, report("counts"));
-  st.scans = pass1.scans;
-  st.beams = pass1.beams;
-  st.hit_beams = pass1.hit_beams;
-  st.cells_traversed = pass1.cells_traversed;
-  st.seconds_counts = secondsSince(t0);
-
-  t0 = std::chrono::steady_clock::now();
-  grid::AngleHistograms hist(counts, bins);
-  // No-return readings cross only what returned nothing their way (grid/no_returns.hpp); their
-  // misses go into the standard occupancy map before the direct classifier reads d_real from it.
-  grid::integrateNoReturns(log, o.beams, counts, hist);
-  SigmoidSums sums;
-  if (o.method == Method::Direct) {
-    sums = integrateSigmoid(log, o.beams, counts, o.occupancy, hist, o.direct, nullptr, report("angles"));
+  const MappingOptions key = passKey(o);
+  std::unique_ptr<BeamPasses::Data> local;
+  BeamPasses::Data* data = nullptr;
+  if (passes && passes->data_ && passes->data_->log == &log && passes->data_->scans == log.scanCount() &&
+      passes->data_->key == key) {
+    data = passes->data_.get();
+    ++passes->reused_;
+    st = data->stats;
+    st.seconds_counts = st.seconds_angles = 0.0;
   } else {
-    grid::integrateAngles(log, o.beams, hist, report("angles"));
-  }
-  st.seconds_angles = secondsSince(t0);
+    if (passes) passes->data_.reset();  // the grid of an earlier log goes before this one's comes
+    auto t0 = std::chrono::steady_clock::now();
+    const grid::GridGeometry geometry = grid::geometryForLog(log, o.resolution, o.beams, o.margin);
+    const double cells = static_cast<double>(geometry.width) * static_cast<double>(geometry.height);
+    const double need = cells * kDenseBytesPerCell;
+    if (need > static_cast<double>(o.max_memory_bytes)) {
+      char text[320];
+      std::snprintf(text, sizeof text,
+                    "the grid of %d x %d cells at %.3g m would need about %.0f MB (%.0f bytes per cell), over "
+                    "the limit of %.0f MB: raise the limit (--max-memory), use a coarser resolution, or check "
+                    "the log for poses far outside the building",
+                    geometry.width, geometry.height, o.resolution, need / 1e6, kDenseBytesPerCell,
+                    static_cast<double>(o.max_memory_bytes) / 1e6);
+      throw Error(text, {}, 0, "max_memory");
+    }
+    local = std::make_unique<BeamPasses::Data>(geometry);
+    data = local.get();
+    data->log = &log;
+    data->scans = log.scanCount();
+    data->key = key;
+    const grid::IntegrationStats pass1 = grid::integrateCounts(log, o.beams, data->counts, report("counts"));
+    st.scans = pass1.scans;
+    st.beams = pass1.beams;
+    st.hit_beams = pass1.hit_beams;
+    st.cells_traversed = pass1.cells_traversed;
+    st.seconds_counts = secondsSince(t0);
 
-  t0 = std::chrono::steady_clock::now();
+    t0 = std::chrono::steady_clock::now();
+    data->hist.emplace(data->counts, bins);
+    // No-return readings cross only what returned nothing their way (grid/no_returns.hpp); their
+    // misses go into the standard occupancy map before the direct classifier reads d_real from it.
+    grid::integrateNoReturns(log, o.beams, data->counts, *data->hist);
+    if (o.method == Method::Direct) {
+      data->sums =
+          integrateSigmoid(log, o.beams, data->counts, o.occupancy, *data->hist, o.direct, nullptr, report("angles"));
+    } else {
+      grid::integrateAngles(log, o.beams, *data->hist, report("angles"));
+    }
+    st.seconds_angles = secondsSince(t0);
+    data->stats = st;
+  }
+  const grid::HitMissGrid& counts = data->counts;
+  const grid::AngleHistograms& hist = *data->hist;
+  const SigmoidSums& sums = data->sums;
+
+  auto t0 = std::chrono::steady_clock::now();
   result.evidence = o.method == Method::Heuristic ? classifyHeuristic(counts, hist, o.heuristic)
                                                   : classifyDirect(counts, hist, sums, o.direct, o.beams.miss_margin);
   st.seconds_classify = secondsSince(t0);
@@ -87,6 +144,7 @@ MappingResult mapLog(const LaserLog& log, const MappingOptions& o,
       counts.bytes() + hist.bytes() + (sums.log_occ.capacity() + sums.log_glass.capacity()) * sizeof(float);
   st.bytes_per_observed_cell =
       st.observed_cells ? static_cast<double>(st.state_bytes) / static_cast<double>(st.observed_cells) : 0.0;
+  if (passes && local) passes->data_ = std::move(local);
   return result;
 }
 

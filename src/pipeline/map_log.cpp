@@ -41,8 +41,10 @@ struct LocalLog {
   }
 };
 
-// One pass of the chain over a log already in its local frame.
-MapResult mapOnce(const LaserLog& log, const MapOptions& options, const Progress& progress) {
+// One pass of the chain over a log already in its local frame; with `passes`, the passes over the
+// beams of an earlier call with the same beam settings are reused (glass::BeamPasses).
+MapResult mapOnce(const LaserLog& log, const MapOptions& options, const Progress& progress,
+                  glass::BeamPasses* passes = nullptr) {
   const auto t0 = std::chrono::steady_clock::now();
   auto report = [&](const char* stage, double f) {
     if (progress) progress(stage, f);
@@ -53,7 +55,7 @@ MapResult mapOnce(const LaserLog& log, const MapOptions& options, const Progress
   // evidence.
   glass::MappingOptions mapping = options.mapping;
   mapping.method = options.method == MapMethod::Heuristic ? glass::Method::Heuristic : glass::Method::Direct;
-  glass::MappingResult classified = glass::mapLog(log, mapping, progress);
+  glass::MappingResult classified = glass::mapLog(log, mapping, progress, passes);
   out.evidence = std::move(classified.evidence);
   out.stats = classified.stats;
   out.seconds.counts = out.stats.seconds_counts;
@@ -137,7 +139,7 @@ bool fitProfile(const LaserLog& log, const VectorMap& plan, const MapOptions& op
 // The first pass left too few beams on glass to fit the lobe: a pass with the broad search lobe
 // (and the fitted range noise), and the fit against its floorplan when that one has the beams.
 void searchLobe(const LaserLog& log, const MapOptions& options, const SensorProfile& prior, const Progress& progress,
-                sensor::CalibrationResult& fit) {
+                glass::BeamPasses& walks, sensor::CalibrationResult& fit) {
   SensorProfile broad = fit.profile;
   broad.direct_peak = {options.search_peak};
   broad.direct_sigma_deg = {options.search_sigma_deg};
@@ -145,7 +147,7 @@ void searchLobe(const LaserLog& log, const MapOptions& options, const SensorProf
   MapOptions wide = options;
   wide.fit_floorplan = true;
   applyProfile(wide, broad);
-  const MapResult look = mapOnce(log, wide, progress);
+  const MapResult look = mapOnce(log, wide, progress, &walks);
   char lobe[96];
   std::snprintf(lobe, sizeof lobe, "a pass with a broad lobe (peak %.2g, sigma %.3g deg, floor %.2g)",
                 options.search_peak, options.search_sigma_deg, options.search_floor);
@@ -296,7 +298,10 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
     MapOptions first = options;
     if (sensor::inScanNoise(log, options.calibration, profile)) applyProfile(first, profile);
     first.fit_floorplan = true;
-    MapResult pass = mapOnce(log, first, progress);
+    // Later passes differ in the lobe only (the noise came first): they reuse this one's walks
+    // over the beams when its thresholds are theirs.
+    glass::BeamPasses walks;
+    MapResult pass = mapOnce(log, first, progress, &walks);
     MapOptions last = first;  // the options of `pass`
     int passes = 1;
     sensor::CalibrationResult fit;
@@ -308,7 +313,7 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
         break;
       }
       if (round == 0 && options.lobe_search && options.profile_lobe && !next.profile.direct_sigma_deg.fitted)
-        searchLobe(log, options, profile, progress, next);
+        searchLobe(log, options, profile, progress, walks, next);
       keepPlausibleLobe(options, profile, next);
       if (progress) progress("calibrate", 1.0);
       // The lobe fitted against a map made with the last fit's within its standard errors of it:
@@ -323,13 +328,14 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
       o.fit_floorplan = first.fit_floorplan;
       // A profile that sets the very thresholds the last pass used would map the same labels.
       if (sameThresholds(o, last)) break;
-      pass = mapOnce(log, o, progress);
+      pass = mapOnce(log, o, progress, &walks);
       last = o;
       ++passes;
     }
     const bool calibrated = out.calibrated;
     out = std::move(pass);
     out.passes = passes;
+    out.reused_beam_walks = walks.reused();
     // The first pass fitted a floorplan to calibrate against; the caller asked for none.
     if (!options.fit_floorplan && !options.prune_unfitted_glass) {
       out.floorplan = {};

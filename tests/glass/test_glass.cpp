@@ -233,6 +233,38 @@ TEST(Direct, CellsNextToGlassMayStandInForItAtTheirEvidenceAgainstIt) {
   EXPECT_GE(against, 2u) << against << " of " << offered;
 }
 
+// A calibration round changes the lobe only: its pass takes the walks over the beams from the
+// last one and labels as a fresh pass would; other beam settings or another log walk again.
+TEST(Direct, ALaterPassWithAnotherLobeReusesTheWalksOverTheBeams) {
+  const LaserLog log = synthLog(scene(), 3);
+  MappingOptions first, wide = first;
+  wide.direct.direct_sigma_deg = 8.0;
+  wide.direct.direct_peak = 0.5;
+  wide.direct.direct_floor = 0.05;
+  wide.direct.range_sigma = 0.02;
+  BeamPasses walks;
+  mapLog(log, first, {}, &walks);
+  const MappingResult again = mapLog(log, wide, {}, &walks);
+  EXPECT_EQ(walks.reused(), 1);
+  EXPECT_EQ(again.stats.seconds_counts, 0.0);
+  const MappingResult fresh = mapLog(log, wide);
+  EXPECT_EQ(again.evidence.label, fresh.evidence.label);
+  EXPECT_EQ(again.evidence.cost, fresh.evidence.cost);
+  EXPECT_EQ(again.stats.beams, fresh.stats.beams);
+  EXPECT_NE(fresh.evidence.label, mapLog(log, first).evidence.label);  // the lobe made a difference
+  // A wider miss margin changes the counts: walked again.
+  MappingOptions margin = wide;
+  margin.beams.miss_margin = 0.2;
+  const MappingResult walked = mapLog(log, margin, {}, &walks);
+  EXPECT_EQ(walks.reused(), 1);
+  EXPECT_EQ(walked.evidence.label, mapLog(log, margin).evidence.label);
+  // Another log with the same options: walked again.
+  const LaserLog other = synthLog(scene(), 4);
+  const MappingResult theirs = mapLog(other, margin, {}, &walks);
+  EXPECT_EQ(walks.reused(), 1);
+  EXPECT_EQ(theirs.evidence.label, mapLog(other, margin).evidence.label);
+}
+
 TEST(Direct, WallOnlySceneHasNoGlass) {
   VectorMap map = scene();
   for (auto& s : map.segments) s.material = Material::Wall;

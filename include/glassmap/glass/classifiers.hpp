@@ -21,6 +21,7 @@ struct HeuristicOptions {
   double max_other_hit_ratio = 0.1;   ///< hits / (hits + misses) outside the lobe
   double occupied_hit_ratio = 0.3;    ///< a non-glass candidate with this hit ratio is OCC, else EMP
   double cost_other = 3.0;            ///< cost [nats] given to every label but the chosen one
+  bool operator==(const HeuristicOptions&) const = default;
 };
 
 /// Direct-reflection formulation (paper 2.5.4) as a Bayes classifier over the cell's beams:
@@ -44,6 +45,7 @@ struct DirectOptions {
   int min_glass_hits = 2;         ///< fewer hits than this: glass labels cost kMaxCost
   double search_cells = 40.0;     ///< d_real is searched this far past the reading [cells]
   double range_sigma = 0.0;       ///< range noise of the readings [m]: spreads a pane's returns (PaneLanding)
+  bool operator==(const DirectOptions&) const = default;
 };
 
 /// Per-candidate sums of the sigmoid terms over the beams ending in the cell (filled by the

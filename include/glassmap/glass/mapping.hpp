@@ -2,6 +2,8 @@
 /// The grid glass-mapping pipeline as one library call: log -> counts -> per-angle statistics ->
 /// cell evidence. Later stages (MRF, vectorisation) refine the returned CellEvidence.
 
+#include <functional>
+#include <memory>
 #include <string>
 
 #include "glassmap/glass/classifiers.hpp"
@@ -36,6 +38,7 @@ struct MappingOptions {
   grid::OccupancyModel occupancy;
   HeuristicOptions heuristic;
   DirectOptions direct;
+  bool operator==(const MappingOptions&) const = default;
 };
 
 /// What mapLog did: counts, sizes, times.
@@ -61,9 +64,34 @@ struct MappingResult {
   MappingStats stats;
 };
 
+/// The passes over a log's beams that mapLog makes before it classifies: the hit/miss counts, the
+/// per-angle histograms and the direct classifier's sigmoid sums. A calibration round changes only
+/// the classifier's lobe, so its pass over the same log reuses them (the same integers: the labels
+/// come out as a fresh pass's would). Holds the grid's state between the passes.
+class BeamPasses {
+ public:
+  BeamPasses();
+  ~BeamPasses();
+  BeamPasses(BeamPasses&&) noexcept;
+  BeamPasses& operator=(BeamPasses&&) noexcept;
+  /// How many mapLog calls took the passes from here instead of walking the beams.
+  int reused() const { return reused_; }
+
+ private:
+  friend MappingResult mapLog(const LaserLog&, const MappingOptions&,
+                              const std::function<void(const char*, double)>&, BeamPasses*);
+  struct Data;
+  std::unique_ptr<Data> data_;
+  int reused_ = 0;
+};
+
 /// Maps a log: grid from the laser poses and beams, occupancy pass, per-angle pass, classifier.
-/// progress(stage, fraction) reports "counts"/"angles" passes in [0, 1].
+/// progress(stage, fraction) reports "counts"/"angles" passes in [0, 1]. With `passes`, the
+/// passes over the beams are taken from there when it holds those of this very log made with
+/// options that differ at most in what only the classifier reads (the lobe, the priors, the pane
+/// share's range noise), and left there otherwise.
 MappingResult mapLog(const LaserLog& log, const MappingOptions& options,
-                     const std::function<void(const char* stage, double fraction)>& progress = {});
+                     const std::function<void(const char* stage, double fraction)>& progress = {},
+                     BeamPasses* passes = nullptr);
 
 }  // namespace glassmap::glass

@@ -31,6 +31,7 @@ struct OccupancyModel {
   double logOdds(const CellCounts& c) const;
   double probability(const CellCounts& c) const;
   bool occupied(const CellCounts& c) const { return c.hits != 0 && logOdds(c) > l_occupied; }
+  bool operator==(const OccupancyModel&) const = default;
 };
 
 /// Tiled sparse grid of CellCounts over a GridGeometry.

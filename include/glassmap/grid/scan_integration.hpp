@@ -44,6 +44,7 @@ struct BeamOptions {
   NoReturnMode no_return = NoReturnMode::Angular;  ///< see NoReturnMode
   /// True when the passes over returned beams skip no-return beams (a later pass walks them).
   bool deferNoReturns() const { return clear_no_return && no_return == NoReturnMode::Angular; }
+  bool operator==(const BeamOptions&) const = default;
 };
 
 /// One beam as a segment in the map frame.

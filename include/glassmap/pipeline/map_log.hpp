@@ -154,6 +154,9 @@ struct MapResult {
   bool calibrated = false;                ///< profile was fitted from this log
   sensor::CalibrationResult calibration;  ///< the fit of `profile` (when calibrated)
   int passes = 1;                         ///< mapping passes over the log (calibration's included)
+  /// Of those, the passes that reused the first's walks over the beams (counts, per-angle
+  /// histograms, sigmoid sums: glass::BeamPasses); their seconds.counts and .angles are 0.
+  int reused_beam_walks = 0;
   MapTimes seconds;
 };
 
