@@ -230,6 +230,13 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
     return log10BinomialCdf(static_cast<int>(p.near_own), static_cast<int>(p.near_own + p.near_pass),
                             kLeastNormalRate) < -3.0;
   };
+  // Seen only through other glass, and too thinly to decide: every return of the cell and of its
+  // pane came through another pane first and no beam reached them directly to pass or stop. Such
+  // evidence cannot tell a pane from the noisy band of a far wall seen through glass (its few
+  // returns near the normal and misses at grazing incidence look like a lobe): nothing says glass.
+  const auto onlyThroughGlass = [&](const Pooled& p) {
+    return p.own > 0 && p.through >= p.own && p.pass + p.stop < o.min_crossings;
+  };
   for (std::size_t c = 0; c < cells.size(); ++c) {
     const Pooled& of_pane = pooled[pane[c]];
     std::optional<bool> verdict;
@@ -242,10 +249,14 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
       ++stats.decided_by_pane;
     } else if ((verdict = opaque(pass[c], stop[c], own[c]))) {
       ++stats.decided;
-    } else {
-      verdict = opaque(of_pane.pass, of_pane.stop, of_pane.own);
-      if (!verdict) continue;
+    } else if ((verdict = opaque(of_pane.pass, of_pane.stop, of_pane.own))) {
       ++stats.decided_by_pane;
+    } else if (onlyThroughGlass(of_pane)) {
+      verdict = true;
+      ++stats.decided_by_pane;
+      ++stats.through_glass_only;
+    } else {
+      continue;
     }
     if (!*verdict) continue;
     const std::size_t i = cells[c];

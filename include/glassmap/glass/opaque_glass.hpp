@@ -20,6 +20,11 @@
 /// laser's spurious readings explain (no-return and far readings at a surface: their share among
 /// the readings between two neighbours on one surface, measured in the log's scans).
 ///
+/// A cell too thinly seen for either, whose pane too was reached by no beam directly (every return
+/// came through another pane first, and fewer than min_crossings beams passed or stopped at it
+/// directly), is not glass either: such evidence cannot tell a pane from the noisy band of a far
+/// wall seen through glass (the rooms behind a glass corridor, seen only from the corridor).
+///
 /// A pane (pooled as above) is also no pane when it is a mirror image drawn in open space: nearly
 /// all its returns came through another pane first (the straight continuation of a beam a pane
 /// reflected or let through and reflected back), and the beams that reached it directly within
@@ -55,6 +60,7 @@ struct OpaqueGlassStats {
                                         ///< cells with normals at most one bin apart) pooled evidence
   std::size_t relabelled = 0;           ///< ...found opaque and relabelled
   std::size_t images = 0;               ///< ...of them mirror images in open space (see above)
+  std::size_t through_glass_only = 0;   ///< ...of them too thinly seen, and only through other glass
   std::uint64_t surface_readings = 0;   ///< readings between two neighbours on one surface
   std::uint64_t spurious_readings = 0;  ///< ...that read nothing or well beyond them
   /// Their share: what a wall lets "through" [-].
