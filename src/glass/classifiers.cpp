@@ -246,6 +246,15 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
   return sums;
 }
 
+DirectOptions sigmoidInputs(const DirectOptions& o) {
+  DirectOptions k;
+  k.sigmoid_margin = o.sigmoid_margin;
+  k.p_hit_occ = o.p_hit_occ;
+  k.occ_hit_floor = o.occ_hit_floor;
+  k.search_cells = o.search_cells;
+  return k;
+}
+
 CellEvidence classifyHeuristic(const grid::HitMissGrid& counts, const AngleHistograms& hist,
                                const HeuristicOptions& o) {
   CellEvidence e = baseEvidence(counts, hist);

@@ -32,14 +32,7 @@ MappingOptions passKey(const MappingOptions& o) {
   MappingOptions k = o;
   k.max_memory_bytes = 0;
   k.heuristic = {};
-  const DirectOptions& d = o.direct;
-  k.direct = {};
-  if (o.method == Method::Direct) {  // integrateSigmoid reads these
-    k.direct.sigmoid_margin = d.sigmoid_margin;
-    k.direct.p_hit_occ = d.p_hit_occ;
-    k.direct.occ_hit_floor = d.occ_hit_floor;
-    k.direct.search_cells = d.search_cells;
-  }
+  k.direct = o.method == Method::Direct ? sigmoidInputs(o.direct) : DirectOptions{};
   return k;
 }
 

@@ -64,6 +64,10 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
                              const DirectOptions& options, grid::IntegrationStats* stats = nullptr,
                              const grid::Progress& progress = {});
 
+/// The fields of `options` that integrateSigmoid reads, every other one at its default: options
+/// with equal sigmoidInputs give equal sums (what a later pass may reuse, glass::BeamPasses).
+DirectOptions sigmoidInputs(const DirectOptions& options);
+
 /// Labels every observed cell; candidates by the heuristic, with costs.
 CellEvidence classifyHeuristic(const grid::HitMissGrid& counts, const grid::AngleHistograms& histograms,
                                const HeuristicOptions& options);
