@@ -366,11 +366,15 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
     }
     normalise(ll, &e.cost[i * static_cast<std::size_t>(e.num_labels)]);
   };
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, e.cells.size(), 1024),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      Scratch& sc = scratch.local();
-                      for (std::size_t i = r.begin(); i != r.end(); ++i) row(i, sc.ll, sc.active);
-                    });
+  // Every candidate in parallel, each with its thread's scratch.
+  const auto forEachCandidate = [&](auto&& fn) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, e.cells.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        Scratch& sc = scratch.local();
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i, sc.ll, sc.active);
+                      });
+  };
+  forEachCandidate(row);
   labelByMinimumCost(e);
 
   // A pane met near its normal in one cell of three leaves its other cells with the hits of any
@@ -381,31 +385,22 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
   // labels, not evidence).
   e.neutral_cost.assign(e.cells.size(), std::numeric_limits<float>::infinity());
   const auto& g = e.geometry;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, e.cells.size(), 1024),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      Scratch& sc = scratch.local();
-                      std::vector<int> panes;
-                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                        if (isGlass(e.label[e.cells[i]])) continue;
-                        const auto c = g.cellOf(e.cells[i]);
-                        panes.clear();
-                        for (int dy = -1; dy <= 1; ++dy)
-                          for (int dx = -1; dx <= 1; ++dx) {
-                            const int x = c.x + dx, y = c.y + dy;
-                            if ((dx | dy) == 0 || x < 0 || y < 0 || x >= g.width || y >= g.height) continue;
-                            const std::uint8_t l = e.label[g.index(x, y)];
-                            if (isGlass(l)) panes.push_back(glassBin(l));
-                          }
-                        if (panes.empty()) continue;
-                        likelihoods(i, sc.ll, sc.active);
-                        double against = 0.0;
-                        for (int k : panes)
-                          against = std::max(against, (sc.ll[kEmpty] - lp_emp) - (sc.ll[glassLabel(k)] - lp_glass));
-                        e.neutral_cost[i] = std::min(
-                            CellEvidence::kMaxCost,
-                            static_cast<float>(e.cost[i * static_cast<std::size_t>(e.num_labels) + kEmpty] + against));
-                      }
-                    });
+  forEachCandidate([&](std::size_t i, std::vector<double>& ll, std::vector<int>& active) {
+    if (isGlass(e.label[e.cells[i]])) return;
+    const auto c = g.cellOf(e.cells[i]);
+    double against = -1.0;  // below 0: no glass neighbour
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        if ((dx | dy) == 0 || !g.contains(c.x + dx, c.y + dy)) continue;
+        const std::uint8_t l = e.label[g.index(c.x + dx, c.y + dy)];
+        if (!isGlass(l)) continue;
+        if (against < 0.0) likelihoods(i, ll, active);
+        against = std::max({against, 0.0, (ll[kEmpty] - lp_emp) - (ll[l] - lp_glass)});
+      }
+    if (against < 0.0) return;
+    const float emp = e.cost[i * static_cast<std::size_t>(e.num_labels) + kEmpty];
+    e.neutral_cost[i] = std::min(CellEvidence::kMaxCost, static_cast<float>(emp + against));
+  });
   return e;
 }
 
