@@ -277,6 +277,10 @@ const cli::Registrar reg(40, [](CLI::App& app) {
   cmd->add_option("--prior-occupied", o.direct.prior_occupied, "direct: prior of OCC for a hit cell")
       ->capture_default_str();
   cmd->add_option("--p-hit-empty", o.direct.p_hit_emp, "direct: P(beam ends in an empty cell)")->capture_default_str();
+  cmd->add_flag("--p-hit-empty-from-log,!--fixed-p-hit-empty", o.direct.p_hit_emp_from_log,
+                "direct: estimate P(beam ends in an empty cell) from the hits in the log's empty space (for buildings "
+                "without people: faint panes come out, but people's tracks are drawn as glass)")
+      ->capture_default_str();
   cmd->add_option("--p-hit-occupied", o.direct.p_hit_occ, "direct: P(beam ends in an occupied cell it reaches)")
       ->capture_default_str();
   cmd->add_option("--min-glass-hits", o.direct.min_glass_hits, "direct: hits a cell needs to be glass")

@@ -40,7 +40,8 @@ MODES = ["default", "direct", "uncalibrated", "oracle"]
 MODE_ARGS = {"default": [], "direct": ["--method", "direct"], "uncalibrated": ["--no-calibrate"],
              "oracle": ["--profile-lobe"], "lobe": ["--profile-lobe"], "no-lobe": ["--no-profile-lobe"], "no-search": ["--no-lobe-search"], "search": ["--lobe-search"], "rounds1": ["--calibration-rounds", "1"], "rounds1-search": ["--calibration-rounds", "1", "--lobe-search"], "rounds2": ["--calibration-rounds", "2"], "rounds3": ["--calibration-rounds", "3"], "raw": ["--keep-phantoms", "--keep-unfitted-glass"],
              "direct-raw": ["--method", "direct", "--keep-phantoms", "--keep-unfitted-glass"],
-             "sparse": ["--sparse-panes"], "no-sparse": ["--no-sparse-panes"], "mrf-w1": ["--mrf-weight", "1"], "mrf-w4": ["--mrf-weight", "4"], "direct-sparse": ["--method", "direct", "--sparse-panes"]}
+             "sparse": ["--sparse-panes"], "no-sparse": ["--no-sparse-panes"], "mrf-w1": ["--mrf-weight", "1"], "mrf-w4": ["--mrf-weight", "4"], "direct-sparse": ["--method", "direct", "--sparse-panes"],
+             "emp-log": ["--p-hit-empty-from-log"]}
 # Lasers that are no named profile: scene keys laid over the scene's laser and glass.
 CUSTOM = {
     "noisy-fine": {"laser": "{preset: hokuyo-utm30lx, rate: 10, resolution_deg: 0.25, range_sigma: 0.03, "
@@ -139,6 +140,9 @@ def one_case(gm, profile, scene, a):
         row[mode] = {"cell_f1": c["tolerant"]["f1"], "cell_p": c["tolerant"]["precision"],
                      "cell_r": c["tolerant"]["recall"], "segment_f1": s["glass"]["f1"],
                      "glass_m": s["glass"]["pred_length_m"], "wall_f1": s["wall"]["f1"]}
+        if "empty_space" in stats:
+            row[mode]["empty_hit_rate"] = stats["empty_space"]["hit_rate"]
+            row[mode]["p_hit_emp"] = stats["empty_space"]["p_hit_emp"]
         if mode == "default" and "sensor" in stats:
             s_meta = meta["sensor"] if "sensor" in meta else meta["scene"]
             laser, glass = s_meta["laser"], s_meta["glass"]

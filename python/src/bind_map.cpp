@@ -148,6 +148,7 @@ void bindMap(py::module_& m) {
         o.get("prior_glass", mp.direct.prior_glass);
         o.get("prior_occupied", mp.direct.prior_occupied);
         o.get("p_hit_empty", mp.direct.p_hit_emp);
+        o.get("p_hit_empty_from_log", mp.direct.p_hit_emp_from_log);
         o.get("p_hit_occupied", mp.direct.p_hit_occ);
         o.get("min_glass_hits", mp.direct.min_glass_hits);
         o.get("heuristic_min_hits", mp.heuristic.min_hits);
@@ -196,7 +197,7 @@ void bindMap(py::module_& m) {
       "no_scan_fit, phantom_fraction, phantom_margin,\n"
       "resolution [m], max_memory [MB], angle_bin [deg], range_cap, no_return_range, miss_margin [m],\n"
       "laser_id, sigmoid_margin, direct_sigma, direct_peak, prior_glass, prior_occupied, p_hit_empty,\n"
-      "p_hit_occupied, min_glass_hits, heuristic_min_hits, heuristic_min_misses, sensor (a profile\n"
+      "p_hit_empty_from_log, p_hit_occupied, min_glass_hits, heuristic_min_hits, heuristic_min_misses, sensor (a profile\n"
       "file or dict), no_calibrate, profile_lobe, lobe_search, calibration_rounds, spool_dir (where a log read from a\n"
       "path whose scans need more than a quarter of max_memory is kept, in an unnamed temporary file;\n"
       "default: the system's temporary folder, TMPDIR). Returns a MapResult.");

@@ -404,4 +404,46 @@ CellEvidence classifyDirect(const grid::HitMissGrid& counts, const AngleHistogra
   return e;
 }
 
+EmptyHitRate emptyHitRate(const grid::HitMissGrid& counts, const CellEvidence& e, int clearance_cells) {
+  const auto& g = e.geometry;
+  const int r = std::max(0, clearance_cells);
+  // Surfaces dilated by r cells: a running count of surface cells over each row's window, then
+  // over each column's.
+  std::vector<std::uint8_t> near(g.cells(), 0);
+  std::vector<int> run(static_cast<std::size_t>(std::max(g.width, g.height)) + 1);
+  for (int y = 0; y < g.height; ++y) {
+    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(g.width);
+    run[0] = 0;
+    for (int x = 0; x < g.width; ++x) {
+      const std::uint8_t l = e.label[row + static_cast<std::size_t>(x)];
+      run[static_cast<std::size_t>(x) + 1] = run[static_cast<std::size_t>(x)] + (l == kOccupied || isGlass(l));
+    }
+    for (int x = 0; x < g.width; ++x) {
+      const int lo = std::max(0, x - r), hi = std::min(g.width, x + r + 1);
+      near[row + static_cast<std::size_t>(x)] = run[static_cast<std::size_t>(hi)] > run[static_cast<std::size_t>(lo)];
+    }
+  }
+  // Columns: how many of rows y - r .. y + r are near a surface in each column, slid row by row.
+  EmptyHitRate out;
+  std::vector<int> column(static_cast<std::size_t>(g.width), 0);
+  const auto slide = [&](int y, int step) {
+    if (y < 0 || y >= g.height) return;
+    const std::uint8_t* n = &near[static_cast<std::size_t>(y) * static_cast<std::size_t>(g.width)];
+    for (int x = 0; x < g.width; ++x) column[static_cast<std::size_t>(x)] += step * n[x];
+  };
+  for (int y = 0; y < r; ++y) slide(y, 1);
+  for (int y = 0; y < g.height; ++y) {
+    slide(y + r, 1);
+    slide(y - r - 1, -1);
+    for (int x = 0; x < g.width; ++x) {
+      if (column[static_cast<std::size_t>(x)] > 0 || e.label[g.index(x, y)] != kEmpty) continue;
+      const grid::CellCounts c = counts.get(x, y);
+      out.hits += c.hits;
+      out.misses += c.misses;
+      ++out.cells;
+    }
+  }
+  return out;
+}
+
 }  // namespace glassmap::glass

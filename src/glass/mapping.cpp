@@ -127,6 +127,19 @@ MappingResult mapLog(const LaserLog& log, const MappingOptions& o,
   auto t0 = std::chrono::steady_clock::now();
   result.evidence = o.method == Method::Heuristic ? classifyHeuristic(counts, hist, o.heuristic)
                                                   : classifyDirect(counts, hist, sums, o.direct, o.beams.miss_margin);
+  // What a beam leaves in empty space, away from the surfaces' range noise and the panes' returns.
+  const int clearance =
+      static_cast<int>(std::ceil((o.beams.miss_margin + 3.0 * o.direct.range_sigma) / o.resolution)) + 1;
+  st.empty = emptyHitRate(counts, result.evidence, clearance);
+  st.p_hit_emp = o.direct.p_hit_emp;
+  if (o.method == Method::Direct && o.direct.p_hit_emp_from_log && st.empty.hits + st.empty.misses > 0) {
+    DirectOptions d = o.direct;
+    // Laplace's rule of succession: a log whose empty space showed no hit still gets a rate above 0.
+    const double beams = static_cast<double>(st.empty.hits) + static_cast<double>(st.empty.misses);
+    d.p_hit_emp = (static_cast<double>(st.empty.hits) + 1.0) / (beams + 2.0);
+    result.evidence = classifyDirect(counts, hist, sums, d, o.beams.miss_margin);
+    st.p_hit_emp = d.p_hit_emp;
+  }
   st.seconds_classify = secondsSince(t0);
 
   st.observed_cells = counts.observedCells();

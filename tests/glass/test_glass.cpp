@@ -265,6 +265,72 @@ TEST(Direct, ALaterPassWithAnotherLobeReusesTheWalksOverTheBeams) {
   EXPECT_EQ(theirs.evidence.label, mapLog(other, margin).evidence.label);
 }
 
+// The spurious rate is read from the empty cells away from every surface: hits within the
+// clearance of an occupied or glass cell (range noise, a pane's returns) are not counted.
+TEST(EmptyHitRate, CountsTheEmptyCellsAwayFromTheSurfaces) {
+  grid::GridGeometry g;
+  g.width = 20;
+  g.height = 12;
+  grid::HitMissGrid counts(g);
+  CellEvidence e;
+  e.geometry = g;
+  e.label.assign(g.cells(), kEmpty);
+  for (int y = 0; y < g.height; ++y) e.label[g.index(3, y)] = kOccupied;  // a wall along x = 3
+  e.label[g.index(15, 6)] = glassLabel(4);                               // a pane cell
+  e.label[g.index(10, 0)] = kUnknown;
+  std::uint64_t hits = 0, misses = 0;
+  std::size_t cells = 0;
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      grid::CellCounts& c = counts.at(x, y);
+      c.hits = static_cast<std::uint16_t>((x + y) % 3);
+      c.misses = static_cast<std::uint16_t>(100 + x);
+      const bool near_wall = std::abs(x - 3) <= 2, near_pane = std::abs(x - 15) <= 2 && std::abs(y - 6) <= 2;
+      if (near_wall || near_pane || (x == 10 && y == 0)) continue;
+      hits += c.hits;
+      misses += c.misses;
+      ++cells;
+    }
+  const EmptyHitRate r = emptyHitRate(counts, e, 2);
+  EXPECT_EQ(r.hits, hits);
+  EXPECT_EQ(r.misses, misses);
+  EXPECT_EQ(r.cells, cells);
+  EXPECT_DOUBLE_EQ(r.rate(), static_cast<double>(hits) / static_cast<double>(hits + misses));
+  // No clearance: every EMP cell.
+  EXPECT_EQ(emptyHitRate(counts, e, 0).cells, g.cells() - static_cast<std::size_t>(g.height) - 2);
+}
+
+// With p_hit_emp_from_log the classifier runs again with the rate of the hits the
+// first classification's empty space holds: the labels a fixed rate of that value gives.
+TEST(Direct, TakesTheSpuriousRateFromTheLogsEmptySpace) {
+  LaserLog log = synthLog(scene(), 6);
+  // Spurious short readings, one beam in 200, anywhere along the beam.
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (LaserScan& scan : log.scans)
+    for (float& r : scan.ranges)
+      if (u(rng) < 0.005) r = static_cast<float>(0.3 + u(rng) * (r - 0.3));
+  MappingOptions fixed;
+  MappingOptions estimated = fixed;
+  estimated.direct.p_hit_emp_from_log = true;
+  const MappingResult a = mapLog(log, fixed), b = mapLog(log, estimated);
+  EXPECT_EQ(a.stats.p_hit_emp, fixed.direct.p_hit_emp);
+  ASSERT_GT(b.stats.empty.cells, 1000u);
+  ASSERT_GT(b.stats.empty.hits, 0u);
+  EXPECT_EQ(a.stats.empty.hits, b.stats.empty.hits);  // read from the first classification
+  const double laplace = (static_cast<double>(b.stats.empty.hits) + 1.0) /
+                         (static_cast<double>(b.stats.empty.hits + b.stats.empty.misses) + 2.0);
+  EXPECT_DOUBLE_EQ(b.stats.p_hit_emp, laplace);
+  EXPECT_LT(b.stats.p_hit_emp, 0.01);  // far below the default 0.02: a spurious reading lands in any of ~100 cells
+  MappingOptions same = fixed;
+  same.direct.p_hit_emp = b.stats.p_hit_emp;
+  EXPECT_EQ(mapLog(log, same).evidence.label, b.evidence.label);
+  EXPECT_NE(a.evidence.label, b.evidence.label);
+  // The pane stays glass at its angle.
+  const Tally t = tallyLine(b.evidence, {5.0, 1.7}, {5.0, 4.3}, 0);
+  EXPECT_GE(t.glass_right, t.total * 8 / 10);
+}
+
 TEST(Direct, WallOnlySceneHasNoGlass) {
   VectorMap map = scene();
   for (auto& s : map.segments) s.material = Material::Wall;

@@ -56,6 +56,8 @@ struct MappingStats {
   double seconds_counts = 0.0;           ///< occupancy pass [s]
   double seconds_angles = 0.0;           ///< per-angle (and sigmoid) pass [s]
   double seconds_classify = 0.0;         ///< classification [s]
+  EmptyHitRate empty;                    ///< hits of empty cells away from surfaces (emptyHitRate)
+  double p_hit_emp = 0.0;                ///< the direct classifier's P(hit | EMP) (DirectOptions)
 };
 
 /// The outcome of mapping one log.
