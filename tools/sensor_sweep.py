@@ -16,7 +16,9 @@ before stop 33), lobe (`--profile-lobe`, the default since stop 33), search / no
 (`--sparse-panes`: the search for panes too faint for the classifiers, on by default since it rejects
 people walking by), no-sparse (`--no-sparse-panes`: the default without it), direct-sparse (both),
 rounds1 / rounds2 / rounds3 (`--calibration-rounds 1` / `2` / `3`: fit and map at most once / twice / three times; rounds1-search: one round with `--lobe-search`; 1 was the default before stop 34, 2 since), mrf-w1 / mrf-w4 (the default with `--mrf-weight 1` / `4`: the MRF weight before stop 28, and a
-stronger one).
+stronger one), emp-log (`--p-hit-empty-from-log`: the direct classifier's P(hit | empty cell) from
+the log's own empty space instead of 0.02; results.json also records each run's `empty_hit_rate`
+and the `p_hit_emp` used).
 
 With --people D every log is simulated with D people per 100 m^2 walking (`simulate --people`).
 

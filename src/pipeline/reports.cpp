@@ -150,6 +150,7 @@ nlohmann::json mapOptionsJson(const MapOptions& options) {
             {"direct_floor", d.direct_floor},
             {"p_hit_occ", d.p_hit_occ},
             {"p_hit_emp", d.p_hit_emp},
+            {"p_hit_emp_from_log", d.p_hit_emp_from_log},
             {"occ_hit_floor", d.occ_hit_floor},
             {"prior_glass", d.prior_glass},
             {"prior_occupied", d.prior_occupied},

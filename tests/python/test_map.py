@@ -76,15 +76,20 @@ def test_options_are_the_command_line_options(log, scene, tmp_path):
     # A cheaper run with several options, against the command with the same options.
     options = dict(method="direct", resolution=0.1, no_calibrate=True, keep_phantoms=True, no_vector=True,
                    no_return_range=8.0, min_glass_hits=3, sparse_panes=True, keep_opaque_glass=True,
-                   no_scan_fit=True)
+                   no_scan_fit=True, p_hit_empty_from_log=True)
     mine = glassmap.map_log(scene / "log.clf", **options)
     from conftest import run_cli
 
     run_cli("map", scene / "log.clf", "-o", tmp_path, "-q", "--method", "direct", "--resolution", 0.1,
             "--no-calibrate", "--keep-phantoms", "--no-vector", "--no-return-range", 8, "--min-glass-hits", 3,
-            "--sparse-panes", "--keep-opaque-glass", "--no-scan-fit")
+            "--sparse-panes", "--keep-opaque-glass", "--no-scan-fit", "--p-hit-empty-from-log")
     theirs = json.loads((tmp_path / "stats.json").read_text())
     assert comparable(mine.stats) == comparable(theirs)
+    # The classifier took the hit rate of the log's empty space (Laplace's rule), not the fixed 0.02.
+    empty = theirs["empty_space"]
+    assert empty["cells"] > 0 and empty["p_hit_emp"] == pytest.approx(
+        (empty["hits"] + 1) / (empty["hits"] + empty["misses"] + 2), rel=1e-12)
+    assert empty["p_hit_emp"] < 0.01 and theirs["options"]["direct"]["p_hit_emp"] == 0.02
     assert mine.stats["options"]["scan_fit"]["enabled"] is False
     assert mine.stats["log"] == str(scene / "log.clf")
     assert mine.labels.shape == (theirs["grid"]["height"], theirs["grid"]["width"])
