@@ -68,6 +68,24 @@ std::vector<ScanCoherence> scanCoherence(std::vector<NearNormalBeam>& beams, std
   return out;
 }
 
+std::vector<ScanCoherence> visitCoherence(std::vector<NearNormalBeam> beams, std::size_t runs, double bin_width,
+                                          double max_gap_s) {
+  std::sort(beams.begin(), beams.end(), [](const NearNormalBeam& a, const NearNormalBeam& b) {
+    if (a.run != b.run) return a.run < b.run;
+    if (a.time != b.time) return a.time < b.time;
+    if (a.scan != b.scan) return a.scan < b.scan;
+    if (a.incidence != b.incidence) return a.incidence < b.incidence;
+    return a.returned < b.returned;
+  });
+  std::uint32_t visit = 0;
+  for (std::size_t i = 0; i < beams.size(); ++i) {
+    const bool next = i > 0 && (beams[i].run != beams[i - 1].run || beams[i].time - beams[i - 1].time > max_gap_s);
+    visit += next ? 1 : 0;
+    beams[i].scan = visit;
+  }
+  return scanCoherence(beams, runs, bin_width);
+}
+
 bool isTransient(const ScanCoherence& c, double max_p, double min_correlation) {
   if (!(max_p > 0.0) || c.correlation < min_correlation) return false;
   // The z a static surface exceeds with probability max_p.

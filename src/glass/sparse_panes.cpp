@@ -38,6 +38,10 @@ struct Run {
   double log10_nfa = 0.0;     // expected false alarms of a run like it, log10
   double transmission = 0.0;  // share of the beams meeting it that passed
   double coherence_z = 0.0;   // z score of the within-scan correlation of its near-normal beams
+  double coherence_correlation = 0.0;
+  std::size_t near_normal_scans = 0;
+  double visit_z = 0.0, visit_correlation = 0.0;
+  std::size_t visits = 0;
   Vec2 end(double s) const { return line.rho * line.normal() + s * line.tangent(); }
 };
 
@@ -205,7 +209,7 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const s
         auto nearNormal = [&](bool returned) {
           if (incidence <= tol_a)
             t.near.push_back({static_cast<std::uint32_t>(r), static_cast<std::uint32_t>(index),
-                              static_cast<float>(incidence), returned});
+                              static_cast<float>(incidence), returned, scan.timestamp});
         };
         if (!beam.hit) {
           // No echo within the cap (nothing in range behind the run, or a dropout): the run did not
@@ -386,6 +390,9 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       near);
   const std::vector<sparse::ScanCoherence> coherence =
       sparse::scanCoherence(near, runs.size(), deg2rad(o.lobe_bin_deg));
+  const std::vector<sparse::ScanCoherence> by_visit =
+      o.max_visit_gap_s > 0.0 ? sparse::visitCoherence(near, runs.size(), deg2rad(o.lobe_bin_deg), o.max_visit_gap_s)
+                              : std::vector<sparse::ScanCoherence>(runs.size());
   std::vector<Run> seen_through;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const double total = static_cast<double>(pass[r] + hit[r]);
@@ -396,8 +403,17 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     }
     runs[r].transmission = static_cast<double>(pass[r]) / total;
     runs[r].coherence_z = coherence[r].z;
+    runs[r].coherence_correlation = coherence[r].correlation;
+    runs[r].near_normal_scans = coherence[r].scans;
+    runs[r].visit_z = by_visit[r].z;
+    runs[r].visit_correlation = by_visit[r].correlation;
+    runs[r].visits = by_visit[r].scans;
     if (sparse::isTransient(coherence[r], o.max_transient_p, o.min_transient_correlation)) {
       ++stats.rejected_transient;
+      continue;
+    }
+    if (o.max_visit_gap_s > 0.0 && sparse::isTransient(by_visit[r], o.max_transient_p, o.min_visit_correlation)) {
+      ++stats.rejected_one_visit;
       continue;
     }
     seen_through.push_back(std::move(runs[r]));
@@ -434,7 +450,8 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     ++stats.panes;
     stats.metres += run.s1 - run.s0;
     stats.found.push_back(
-        {run.end(run.s0), run.end(run.s1), run.returns.size(), run.log10_nfa, run.transmission, run.coherence_z});
+        {run.end(run.s0), run.end(run.s1), run.returns.size(), run.log10_nfa, run.transmission, run.coherence_z,
+         run.coherence_correlation, run.near_normal_scans, run.visit_z, run.visit_correlation, run.visits});
     for (std::size_t i : to_draw[r]) {
       if (e.label[i] != kEmpty) continue;  // an earlier pane drew it
       e.label[i] = labelOf(run);

@@ -13,7 +13,8 @@
 namespace glassmap::pipeline {
 namespace {
 
-// The panes of the sparse-pane search: ends [m], returns, log10 NFA, transmission, coherence z.
+// The panes of the sparse-pane search: ends [m], returns, log10 NFA, transmission, coherence z and
+// correlation, and the scans the coherence rests on.
 nlohmann::json sparsePanesJson(const std::vector<glass::SparsePane>& panes) {
   nlohmann::json j = nlohmann::json::array();
   for (const glass::SparsePane& p : panes)
@@ -22,7 +23,12 @@ nlohmann::json sparsePanesJson(const std::vector<glass::SparsePane>& panes) {
                  {"returns", p.returns},
                  {"log10_nfa", p.log10_nfa},
                  {"transmission", p.transmission},
-                 {"coherence_z", p.coherence_z}});
+                 {"coherence_z", p.coherence_z},
+                 {"coherence_correlation", p.coherence_correlation},
+                 {"near_normal_scans", p.near_normal_scans},
+                 {"visit_z", p.visit_z},
+                 {"visit_correlation", p.visit_correlation},
+                 {"visits", p.visits}});
   return j;
 }
 
@@ -259,6 +265,7 @@ nlohmann::json mapStatsJson(const MapResult& result, const MapOptions& options, 
                         {"rejected_chance", result.sparse.rejected_chance},
                         {"rejected_opaque", result.sparse.rejected_opaque},
                         {"rejected_transient", result.sparse.rejected_transient},
+                        {"rejected_one_visit", result.sparse.rejected_one_visit},
                         {"rejected_through", result.sparse.rejected_through},
                         {"found", sparsePanesJson(result.sparse.found)}}},
                       {"opaque_glass",

@@ -1,12 +1,14 @@
 // Tests of the glass module: labels, lobe, both classifiers on synthetic scans, rendering.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <random>
 
 #include "glassmap/core/error.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
 #include "glassmap/glass/mapping.hpp"
+#include "glassmap/glass/scan_coherence.hpp"
 
 namespace glassmap::glass {
 namespace {
@@ -329,6 +331,42 @@ TEST(Direct, TakesTheSpuriousRateFromTheLogsEmptySpace) {
   // The pane stays glass at its angle.
   const Tally t = tallyLine(b.evidence, {5.0, 1.7}, {5.0, 4.3}, 0);
   EXPECT_GE(t.glass_right, t.total * 8 / 10);
+}
+
+// The robot passes a run's normal four times, 20 s apart, three near-normal beams a scan at 10 Hz.
+// A pane answers every visit at its rate; a person stood there during one visit only, in part of
+// each of its beams (a leg, not a wall: each beam on its own, so the within-scan test cannot tell),
+// and answered no other visit.
+TEST(VisitCoherence, APersonAnswersOneVisitAPaneEvery) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto beams = [&](std::uint32_t run, auto&& rate) {
+    std::vector<sparse::NearNormalBeam> out;
+    std::uint32_t scan = 0;
+    for (int visit = 0; visit < 4; ++visit)
+      for (int k = 0; k < 30; ++k, ++scan)
+        for (int b = 0; b < 3; ++b)
+          out.push_back({run, scan, 0.01f * static_cast<float>(b), u(rng) < rate(visit, k), 20.0 * visit + 0.1 * k});
+    return out;
+  };
+  std::vector<sparse::NearNormalBeam> near = beams(0, [](int, int) { return 0.3; });
+  const auto person = beams(1, [](int visit, int) { return visit == 2 ? 0.2 : 0.0; });
+  near.insert(near.end(), person.begin(), person.end());
+  const double bin = deg2rad(0.5);
+  const std::vector<sparse::ScanCoherence> scans = sparse::scanCoherence(near, 2, bin);
+  const std::vector<sparse::ScanCoherence> visits = sparse::visitCoherence(near, 2, bin, 2.0);
+  EXPECT_EQ(visits[0].scans, 4u);
+  EXPECT_EQ(visits[1].scans, 4u);
+  EXPECT_FALSE(sparse::isTransient(scans[1], 1e-3, 0.25)) << scans[1].z << " " << scans[1].correlation;
+  EXPECT_FALSE(sparse::isTransient(visits[0], 1e-3, 0.02)) << visits[0].z << " " << visits[0].correlation;
+  EXPECT_TRUE(sparse::isTransient(visits[1], 1e-3, 0.02)) << visits[1].z << " " << visits[1].correlation;
+  std::printf("within scans: pane z %.2f, person z %.2f (corr %.3f); by visit: pane z %.2f (corr %.3f), person z %.2f "
+              "(corr %.3f)\n",
+              scans[0].z, scans[1].z, scans[1].correlation, visits[0].z, visits[0].correlation, visits[1].z,
+              visits[1].correlation);
+  // One visit: nothing to compare (its rate is its own).
+  const std::vector<sparse::NearNormalBeam> once(person.begin() + 180, person.begin() + 270);
+  EXPECT_FALSE(sparse::isTransient(sparse::visitCoherence(once, 2, bin, 2.0)[1], 1e-3, 0.02));
 }
 
 TEST(Direct, WallOnlySceneHasNoGlass) {

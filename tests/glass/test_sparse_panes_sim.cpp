@@ -118,15 +118,17 @@ TEST(SparsePanes, PeopleWalkingByAreNotPanes) {
     const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, e);
     SparsePaneOptions no_test = so;
     no_test.min_transient_correlation = 2.0;  // above any correlation: the transient test never rejects
+    no_test.max_visit_gap_s = 0.0;             // nor the one by visit
     const SparsePaneStats s0 = findSparsePanes(c.log, c.options.beams, no_test, without);
     const std::vector<double> panes = glass ? std::vector<double>{0.0, 2.4} : std::vector<double>{};
     const GlassCount before = countGlass(c.mapped.evidence, panes, 2, 14);
     const GlassCount with = countGlass(e, panes, 2, 14), plain = countGlass(without, panes, 2, 14);
     std::printf(
         "%s, people: classifier %zu pane cells, %zu elsewhere; sparse panes %zu (%.1f m), %zu pane cells, %zu "
-        "elsewhere, %zu runs transient; without the test %zu (%.1f m), %zu pane cells, %zu elsewhere\n",
+        "elsewhere, %zu runs transient, %zu of one visit; without the tests %zu (%.1f m), %zu pane cells, %zu "
+        "elsewhere\n",
         glass ? "glass corridor" : "glass-free floor", before.on, before.off, s.panes, s.metres, with.on, with.off,
-        s.rejected_transient, s0.panes, s0.metres, plain.on, plain.off);
+        s.rejected_transient, s.rejected_one_visit, s0.panes, s0.metres, plain.on, plain.off);
     EXPECT_GT(s.rejected_transient, 0u);
     EXPECT_EQ(s0.rejected_transient, 0u);
     EXPECT_LT(with.off, plain.off);  // people drew glass the test takes away

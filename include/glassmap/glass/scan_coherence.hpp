@@ -20,6 +20,7 @@ struct NearNormalBeam {
   std::uint32_t scan = 0;  ///< its scan's index in the log
   float incidence = 0.0f;  ///< angle to the run's normal [rad], absolute
   bool returned = false;   ///< true: returned on the run; false: passed it
+  double time = 0.0;       ///< its scan's timestamp [s] (visitCoherence)
 };
 
 /// How the outcomes of one run's near-normal beams hang together within scans.
@@ -34,6 +35,13 @@ struct ScanCoherence {
 /// estimated per run and per incidence bin of width bin_width [rad] (the pane's lobe, measured from
 /// its own beams).
 std::vector<ScanCoherence> scanCoherence(std::vector<NearNormalBeam>& beams, std::size_t runs, double bin_width);
+
+/// The same test with the robot's visits in place of scans: a visit is a stretch of the run's
+/// near-normal beams with no gap over max_gap_s between consecutive ones. A pane answers each
+/// visit at its rate, a person only the visit it was there for: every beam of that visit, none of
+/// the others. With one visit there is nothing to compare (z = 0).
+std::vector<ScanCoherence> visitCoherence(std::vector<NearNormalBeam> beams, std::size_t runs, double bin_width,
+                                          double max_gap_s);
 
 /// Whether a run is a transient: a static surface would show its z with a one-sided probability
 /// below max_p, and its beams share at least min_correlation of their variation within scans (with

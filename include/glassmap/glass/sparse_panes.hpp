@@ -70,6 +70,12 @@ struct SparsePaneOptions {
   /// logs (six lasers, four scenes): panes the other tests keep 0.15 at most; people's runs 0.07 to
   /// 1, most above 0.3 (those below it are kept as panes).
   double min_transient_correlation = 0.25;
+  /// A run is also a transient when its near-normal beams return together by visit (the robot's
+  /// passes along its normal, max_visit_gap_s apart at least: glass/scan_coherence.hpp
+  /// visitCoherence) as rarely for a static surface, and share at least min_visit_correlation of
+  /// their variation: a person answers the one visit it was there for. Off with max_visit_gap_s 0.
+  double max_visit_gap_s = 2.0;
+  double min_visit_correlation = 0.02;
   double lobe_bin_deg = 0.5;     ///< return rates near the normal are estimated per incidence bin this wide [deg]
   double range_sigma = 0.0;      ///< the laser's range noise [m]: sigma(r) = hypot(range_sigma,
   double range_sigma_rel = 0.0;  ///< range_sigma_rel r) widens offset_tol, wall_clearance and beyond
@@ -82,6 +88,11 @@ struct SparsePane {
   double log10_nfa = 0.0;     ///< log10 of the false alarms expected of a run like it
   double transmission = 0.0;  ///< share of the beams meeting it that passed
   double coherence_z = 0.0;   ///< z score of the within-scan correlation of its near-normal beams (0: static)
+  double coherence_correlation = 0.0;  ///< that correlation (0: independent beams, 1: all or none)
+  std::size_t near_normal_scans = 0;   ///< scans with at least two near-normal beams on it
+  double visit_z = 0.0;                ///< the same between the robot's visits (visitCoherence)
+  double visit_correlation = 0.0;
+  std::size_t visits = 0;              ///< visits with at least two near-normal beams
 };
 
 /// What the search did.
@@ -92,6 +103,7 @@ struct SparsePaneStats {
   std::size_t rejected_chance = 0;     ///< runs that chance explains (a contrario)
   std::size_t rejected_opaque = 0;     ///< runs the beams do not pass (a wall's front)
   std::size_t rejected_transient = 0;  ///< runs whose near-normal beams return scan by scan (people walking by)
+  std::size_t rejected_one_visit = 0;  ///< runs that answered one of the robot's visits along their normal only
   std::size_t rejected_through = 0;    ///< runs seen through another pane (mirror images, shifted walls)
   std::size_t cells_labelled = 0;      ///< empty cells relabelled glass
   double metres = 0.0;                 ///< total length of the panes found [m]
