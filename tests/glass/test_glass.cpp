@@ -9,6 +9,7 @@
 #include "glassmap/geometry/ray_caster.hpp"
 #include "glassmap/glass/mapping.hpp"
 #include "glassmap/glass/scan_coherence.hpp"
+#include "glassmap/glass/sparse_panes.hpp"
 
 namespace glassmap::glass {
 namespace {
@@ -352,21 +353,26 @@ TEST(VisitCoherence, APersonAnswersOneVisitAPaneEvery) {
   std::vector<sparse::NearNormalBeam> near = beams(0, [](int, int) { return 0.3; });
   const auto person = beams(1, [](int visit, int) { return visit == 2 ? 0.2 : 0.0; });
   near.insert(near.end(), person.begin(), person.end());
-  const double bin = deg2rad(0.5);
+  const SparsePaneOptions o;
+  const double bin = deg2rad(o.lobe_bin_deg);
   const std::vector<sparse::ScanCoherence> scans = sparse::scanCoherence(near, 2, bin);
-  const std::vector<sparse::ScanCoherence> visits = sparse::visitCoherence(near, 2, bin, 2.0);
+  const std::vector<sparse::ScanCoherence> visits = sparse::visitCoherence(near, 2, bin, o.max_visit_gap_s);
   EXPECT_EQ(visits[0].scans, 4u);
   EXPECT_EQ(visits[1].scans, 4u);
-  EXPECT_FALSE(sparse::isTransient(scans[1], 1e-3, 0.25)) << scans[1].z << " " << scans[1].correlation;
-  EXPECT_FALSE(sparse::isTransient(visits[0], 1e-3, 0.02)) << visits[0].z << " " << visits[0].correlation;
-  EXPECT_TRUE(sparse::isTransient(visits[1], 1e-3, 0.02)) << visits[1].z << " " << visits[1].correlation;
+  EXPECT_FALSE(sparse::isTransient(scans[1], o.max_transient_p, o.min_transient_correlation))
+      << scans[1].z << " " << scans[1].correlation;
+  EXPECT_FALSE(sparse::isTransient(visits[0], o.max_transient_p, o.min_visit_correlation))
+      << visits[0].z << " " << visits[0].correlation;
+  EXPECT_TRUE(sparse::isTransient(visits[1], o.max_transient_p, o.min_visit_correlation))
+      << visits[1].z << " " << visits[1].correlation;
   std::printf("within scans: pane z %.2f, person z %.2f (corr %.3f); by visit: pane z %.2f (corr %.3f), person z %.2f "
               "(corr %.3f)\n",
               scans[0].z, scans[1].z, scans[1].correlation, visits[0].z, visits[0].correlation, visits[1].z,
               visits[1].correlation);
   // One visit: nothing to compare (its rate is its own).
   const std::vector<sparse::NearNormalBeam> once(person.begin() + 180, person.begin() + 270);
-  EXPECT_FALSE(sparse::isTransient(sparse::visitCoherence(once, 2, bin, 2.0)[1], 1e-3, 0.02));
+  EXPECT_FALSE(
+      sparse::isTransient(sparse::visitCoherence(once, 2, bin, o.max_visit_gap_s)[1], o.max_transient_p, 0.0));
 }
 
 TEST(Direct, WallOnlySceneHasNoGlass) {
