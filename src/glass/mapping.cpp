@@ -134,9 +134,7 @@ MappingResult mapLog(const LaserLog& log, const MappingOptions& o,
   st.p_hit_emp = o.direct.p_hit_emp;
   if (o.method == Method::Direct && o.direct.p_hit_emp_from_log && st.empty.hits + st.empty.misses > 0) {
     DirectOptions d = o.direct;
-    // Laplace's rule of succession: a log whose empty space showed no hit still gets a rate above 0.
-    const double beams = static_cast<double>(st.empty.hits) + static_cast<double>(st.empty.misses);
-    d.p_hit_emp = (static_cast<double>(st.empty.hits) + 1.0) / (beams + 2.0);
+    d.p_hit_emp = st.empty.laplaceRate();
     result.evidence = classifyDirect(counts, hist, sums, d, o.beams.miss_margin);
     st.p_hit_emp = d.p_hit_emp;
   }

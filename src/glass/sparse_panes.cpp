@@ -37,11 +37,7 @@ struct Run {
   std::vector<std::size_t> returns;
   double log10_nfa = 0.0;     // expected false alarms of a run like it, log10
   double transmission = 0.0;  // share of the beams meeting it that passed
-  double coherence_z = 0.0;   // z score of the within-scan correlation of its near-normal beams
-  double coherence_correlation = 0.0;
-  std::size_t near_normal_scans = 0;
-  double visit_z = 0.0, visit_correlation = 0.0;
-  std::size_t visits = 0;
+  sparse::ScanCoherence by_scan, by_visit;  // its near-normal beams within scans and within visits
   Vec2 end(double s) const { return line.rho * line.normal() + s * line.tangent(); }
 };
 
@@ -122,7 +118,11 @@ std::vector<Run> splitRuns(const std::vector<WeakReturn>& w, std::vector<std::si
   std::vector<Run> runs;
   for (std::size_t i : idx) {
     const double s = t.dot(w[i].at);
-    if (runs.empty() || s - runs.back().s1 > split) runs.push_back(Run{line, s, s, {}});
+    if (runs.empty() || s - runs.back().s1 > split) {
+      runs.emplace_back();
+      runs.back().line = line;
+      runs.back().s0 = s;
+    }
     runs.back().s1 = s;
     runs.back().returns.push_back(i);
   }
@@ -402,17 +402,13 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       continue;
     }
     runs[r].transmission = static_cast<double>(pass[r]) / total;
-    runs[r].coherence_z = coherence[r].z;
-    runs[r].coherence_correlation = coherence[r].correlation;
-    runs[r].near_normal_scans = coherence[r].scans;
-    runs[r].visit_z = by_visit[r].z;
-    runs[r].visit_correlation = by_visit[r].correlation;
-    runs[r].visits = by_visit[r].scans;
+    runs[r].by_scan = coherence[r];
+    runs[r].by_visit = by_visit[r];  // all zero when the test is off: never a transient
     if (sparse::isTransient(coherence[r], o.max_transient_p, o.min_transient_correlation)) {
       ++stats.rejected_transient;
       continue;
     }
-    if (o.max_visit_gap_s > 0.0 && sparse::isTransient(by_visit[r], o.max_transient_p, o.min_visit_correlation)) {
+    if (sparse::isTransient(by_visit[r], o.max_transient_p, o.min_visit_correlation)) {
       ++stats.rejected_one_visit;
       continue;
     }
@@ -450,8 +446,8 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     ++stats.panes;
     stats.metres += run.s1 - run.s0;
     stats.found.push_back(
-        {run.end(run.s0), run.end(run.s1), run.returns.size(), run.log10_nfa, run.transmission, run.coherence_z,
-         run.coherence_correlation, run.near_normal_scans, run.visit_z, run.visit_correlation, run.visits});
+        {run.end(run.s0), run.end(run.s1), run.returns.size(), run.log10_nfa, run.transmission, run.by_scan,
+         run.by_visit});
     for (std::size_t i : to_draw[r]) {
       if (e.label[i] != kEmpty) continue;  // an earlier pane drew it
       e.label[i] = labelOf(run);

@@ -23,12 +23,12 @@ nlohmann::json sparsePanesJson(const std::vector<glass::SparsePane>& panes) {
                  {"returns", p.returns},
                  {"log10_nfa", p.log10_nfa},
                  {"transmission", p.transmission},
-                 {"coherence_z", p.coherence_z},
-                 {"coherence_correlation", p.coherence_correlation},
-                 {"near_normal_scans", p.near_normal_scans},
-                 {"visit_z", p.visit_z},
-                 {"visit_correlation", p.visit_correlation},
-                 {"visits", p.visits}});
+                 {"coherence_z", p.by_scan.z},
+                 {"coherence_correlation", p.by_scan.correlation},
+                 {"near_normal_scans", p.by_scan.scans},
+                 {"visit_z", p.by_visit.z},
+                 {"visit_correlation", p.by_visit.correlation},
+                 {"visits", p.by_visit.scans}});
   return j;
 }
 

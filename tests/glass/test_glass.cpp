@@ -299,6 +299,8 @@ TEST(EmptyHitRate, CountsTheEmptyCellsAwayFromTheSurfaces) {
   EXPECT_EQ(r.misses, misses);
   EXPECT_EQ(r.cells, cells);
   EXPECT_DOUBLE_EQ(r.rate(), static_cast<double>(hits) / static_cast<double>(hits + misses));
+  EXPECT_DOUBLE_EQ(r.laplaceRate(), (static_cast<double>(hits) + 1.0) / static_cast<double>(hits + misses + 2));
+  EXPECT_DOUBLE_EQ(EmptyHitRate{}.laplaceRate(), 0.5);
   // No clearance: every EMP cell.
   EXPECT_EQ(emptyHitRate(counts, e, 0).cells, g.cells() - static_cast<std::size_t>(g.height) - 2);
 }

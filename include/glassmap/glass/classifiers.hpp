@@ -130,6 +130,10 @@ struct EmptyHitRate {
   std::size_t cells = 0;               ///< EMP cells farther than the clearance from OCC and glass
   /// hits / (hits + misses); 0 without a beam.
   double rate() const { return hits + misses ? static_cast<double>(hits) / static_cast<double>(hits + misses) : 0.0; }
+  /// The rate by Laplace's rule, (hits + 1) / (hits + misses + 2): above 0 when no hit was seen.
+  double laplaceRate() const {
+    return (static_cast<double>(hits) + 1.0) / (static_cast<double>(hits) + static_cast<double>(misses) + 2.0);
+  }
 };
 
 /// Sums the counts of the cells `evidence` labels EMP that lie more than `clearance_cells`

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "glassmap/glass/evidence.hpp"
+#include "glassmap/glass/scan_coherence.hpp"
 #include "glassmap/grid/scan_integration.hpp"
 
 namespace glassmap::glass {
@@ -92,12 +93,8 @@ struct SparsePane {
   std::size_t returns = 0;    ///< weak returns along it
   double log10_nfa = 0.0;     ///< log10 of the false alarms expected of a run like it
   double transmission = 0.0;  ///< share of the beams meeting it that passed
-  double coherence_z = 0.0;   ///< z score of the within-scan correlation of its near-normal beams (0: static)
-  double coherence_correlation = 0.0;  ///< that correlation (0: independent beams, 1: all or none)
-  std::size_t near_normal_scans = 0;   ///< scans with at least two near-normal beams on it
-  double visit_z = 0.0;                ///< the same between the robot's visits (visitCoherence)
-  double visit_correlation = 0.0;
-  std::size_t visits = 0;              ///< visits with at least two near-normal beams
+  sparse::ScanCoherence by_scan;   ///< how its near-normal beams hang together within scans (z 0: static)
+  sparse::ScanCoherence by_visit;  ///< ... and within the robot's visits (visitCoherence; `scans` counts visits)
 };
 
 /// What the search did.
