@@ -307,11 +307,11 @@ const cli::Registrar reg(40, [](CLI::App& app) {
                 "follow the profile). A lobe the calibration could not fit (too few beams on glass, after\n"
                 "--lobe-search if given), one wider than glass shows (sigma - 2 se > 20 deg: door frames taken for\n"
                 "panes) or one fainter (peak + 2 se < 0.05) keeps the defaults, said among the calibration\n"
-                "warnings (README, Calibration)");
+                "warnings (docs/calibration.md)");
   cmd->add_flag("--lobe-search,!--no-lobe-search", args->options.lobe_search,
                 "when the first pass leaves too few beams on glass to fit the lobe, map the log once more with\n"
                 "a broad lobe (peak 0.5, sigma 10 deg, floor 0.1) and fit the lobe against that floorplan (off\n"
-                "by default since the first pass has the range noise and sees faint panes; README, Calibration)");
+                "by default since the first pass has the range noise and sees faint panes; docs/calibration.md)");
   cmd->add_option("--calibration-rounds", args->options.calibration_rounds,
                   "fit and re-map at most this many times: a fit within one standard error of the last\n"
                   "(lobe peak, sigma, floor) ends it, its map kept")

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Reproduces the README's localization table: for each scene and seed, simulate, then localize
+"""Reproduces the tracking table of docs/localization.md: for each scene and seed, simulate, then localize
 against the true floorplan with every model (the command's defaults: 2,000 particles at most, KLD
 down to 500; 15 beams; started at the first true pose) and score with `glassmap eval traj`; prints the Markdown table of mean ATE RMSE over the
 seeds / worst maximum error [m].

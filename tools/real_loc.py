@@ -123,7 +123,7 @@ def main():
                     help="exit 1 when some run's ATE RMSE exceeds this [m] or it was lost (a test)")
     ap.add_argument("--max-lost", type=int, default=0,
                     help="with --check: this many runs may be lost (max error over 1 m); every other run must "
-                         "be under --check (runs with 1 m / 30 deg between scans move with the plan and rounding: README)")
+                         "be under --check (runs with 1 m / 30 deg between scans move with the plan and rounding: docs/localization.md)")
     ap.add_argument("--walls-only", action="store_true",
                     help="localize in the building alone (localize --walls-only: the plan without its CLUTTER "
                          "layer, as a building drawing has no furniture)")

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Moves a log, a plan or a raster by (DX, DY) metres: the far-coordinate checks of README
-Reliability (results must not depend on where the frame's origin lies).
+"""Moves a log, a plan or a raster by (DX, DY) metres: the far-coordinate checks of
+docs/reliability.md (results must not depend on where the frame's origin lies).
 
   tools/shift_xy.py IN OUT DX DY
 

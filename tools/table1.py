@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Reproduces the README's mapping tables: for each scene, simulate with a fixed seed, map with
-every method, score the cells (paper Table I + F1) and the vector floorplan (segments), and print
-Markdown tables.
+"""Reproduces the mapping tables (README.md: glass cells; docs/mapping.md: floorplans): for each
+scene, simulate with a fixed seed, map with every method, score the cells (paper Table I + F1) and
+the vector floorplan (segments), and print Markdown tables.
 
 Usage: tools/table1.py [--build build] [--seed 1] [--out out/table1] [scene ...]
 """

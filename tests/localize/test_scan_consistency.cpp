@@ -36,7 +36,7 @@ VectorMap room() {
 // but for two long shelves along the left room. In the world the right room has the shelves' twins
 // as furniture, which hide its walls: seen from the right room the scans are those of the twin pose
 // in the left room, where the plan explains them (the furniture lines up with the shelves) far
-// better than at the true pose (Freiburg 079's cluttered room, README Localization).
+// better than at the true pose (Freiburg 079's cluttered room, docs/localization.md).
 VectorMap twoRooms(bool furnished) {
   VectorMap m;
   addSegment(m, {0, 0}, {30, 0});

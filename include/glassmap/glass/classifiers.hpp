@@ -43,7 +43,7 @@ struct DirectOptions {
   /// the value above calls empty, away from the surfaces (emptyHitRate), by Laplace's rule
   /// ((hits + 1) / (beams + 2)). Off by default: tried over 39 random lasers without people it
   /// finds faint panes the fixed 0.02 misses, but people walking leave hits in a few empty cells
-  /// that a rate of all empty space makes glass (README: "The spurious rate from the log").
+  /// that a rate of all empty space makes glass (docs/calibration.md: "The spurious rate from the log").
   bool p_hit_emp_from_log = false;
   double occ_hit_floor = 1e-3;    ///< added to p_hit_occ * P_occ^t (a bounded penalty per beam)
   double prior_glass = 0.05;      ///< prior of glass (all angles) for a candidate cell

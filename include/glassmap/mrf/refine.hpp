@@ -14,7 +14,7 @@ struct RefineOptions {
   SolverKind solver = SolverKind::Expansion;                      ///< graph-cut moves or ICM
   PsiKind psi = PsiKind::Pane;                                    ///< pairwise table (see PsiKind)
   double pane_angle_full_deg = PsiWeights{}.pane_angle_full_deg;  ///< pane Psi: see PsiWeights [deg]
-  double unary_weight = 2.0;  ///< scale of the -log posteriors against Psi [-] (see README, Calibration)
+  double unary_weight = 2.0;  ///< scale of the -log posteriors against Psi [-] (see docs/calibration.md)
   int tile = 256;             ///< tile side [cells]; each tile is solved with its border fixed
   int sweeps = 2;             ///< passes over all tiles (later passes see updated borders)
   /// Cells no beam ended in (only passed through) and unseen cells border glass at no cost: they
