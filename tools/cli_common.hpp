@@ -11,6 +11,7 @@
 #include "glassmap/core/sensor_profile.hpp"
 #include "glassmap/geometry/vector_map.hpp"
 #include "glassmap/io/log.hpp"
+#include "glassmap/vector/scan_clutter.hpp"
 #include "glassmap/vector/scan_fit.hpp"
 
 namespace glassmap::cli {
@@ -74,6 +75,8 @@ std::string profileSummary(const SensorProfile& p);
 /// One line for a summary: "60 of 166 segments moved (mean 0.041 m); returns within 0.05 m of their
 /// segment 73.7% -> 78.7%".
 std::string scanFitSummary(const vector::ScanFitStats& s);
+/// One line on the clutter layer chosen from the returns.
+std::string scanClutterSummary(const vector::ScanClutterStats& s);
 
 /// Makes a CarmenReadOptions::progress that prints "reading  45.0% (120 of 270 MB, 35 MB/s)" on
 /// stderr, overwriting itself, at most ten times a second; empty when `show` is false.

@@ -135,6 +135,8 @@ void run(MapArgs& args) {
       std::printf("%-22s %zu glass cells off every glass segment relabelled\n", "pane fit", result.pruned_glass);
     if (options.scan_fit.enabled && result.has_floorplan)
       std::printf("%-22s %s\n", "walls onto returns", cli::scanFitSummary(result.scan_fit).c_str());
+    if (options.scan_clutter.enabled && result.has_floorplan)
+      std::printf("%-22s %s\n", "clutter from returns", cli::scanClutterSummary(result.scan_clutter).c_str());
     if (options.sparse_panes)
       std::printf(
           "%-22s %zu found, %.1f m (%zu runs of %zu weak returns tested; rejected: %zu chance, %zu opaque, "
@@ -209,6 +211,16 @@ const cli::Registrar reg(40, [](CLI::App& app) {
                 "returns under 8 m nearest to it (within 0.2 m; both wider for a laser noisier than 2.5 cm),\n"
                 "when that band holds 2% more of them than the one about the line as drawn and no fewer lie\n"
                 "within 0.1 m; corners, T junctions and doors follow");
+  cmd->add_flag("!--no-scan-clutter", args->options.scan_clutter.enabled,
+                "keep the clutter layer the cells draw (the outline of every occupied blob): by default it is\n"
+                "replaced by segments chosen to explain the returns under 8 m that the walls and panes leave\n"
+                "(a greedy cover: lines fitted through dense returns, grown while their returns leave no gap over\n"
+                "0.5 m and the line crosses no free space over 0.15 m, each taken while it explains at least\n"
+                "--clutter-min-share of all the returns; returns in free space, people walking, count for none)");
+  cmd->add_option("--clutter-min-share", args->options.scan_clutter.min_share,
+                  "the share of the log's returns under 8 m a clutter segment must explain to be drawn")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1.0));
   cmd->add_flag("--sparse-panes,!--no-sparse-panes", args->options.sparse_panes,
                 "look for panes too faint for the cell classifiers (a laser whose glass returns rarely, only\n"
                 "near the normal; on by default, --no-sparse-panes skips it): returns from cells most beams\n"

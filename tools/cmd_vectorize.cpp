@@ -36,6 +36,7 @@ struct VectorizeArgs {
   bool no_regularize = false, quiet = false;
   cli::GeorefArgs georef;
   vector::VectorizeOptions options;
+  vector::ScanClutterOptions scan_clutter;  // with --log
 };
 
 // The input as a label grid, and where its lower-left corner lies (with the yaw of a ROS map).
@@ -116,11 +117,15 @@ void run(const VectorizeArgs& args) {
     for (Vec2& p : room.ring) p = input.origin * p;
   // With the log the map was made from: the walls where its returns put them (as `map` does).
   vector::ScanFitStats fit;
+  vector::ScanClutterStats clutter;
   if (log) {
     fit = vector::fitToScans(r, *log, grid::BeamOptions{});
     if (fit.returns == 0)
       std::cerr << "glassmap: warning: " << args.log
                 << ": no return lies within 0.2 m of a wall: are the log's poses in the map's frame?\n";
+    // The clutter layer from the returns the walls leave (as `map` does).
+    if (args.scan_clutter.enabled)
+      clutter = vector::clutterFromScans(r, *log, grid::BeamOptions{}, &grid, input.origin, args.scan_clutter);
   }
   const auto written = vector::writeFloorplanSet(stem, r.map, formats, r.extras, georef ? &*georef : nullptr);
 
@@ -153,6 +158,7 @@ void run(const VectorizeArgs& args) {
       {"rooms", r.extras.rooms.size()},
       {"scan_fit", pipeline::scanFitJson(fit)},
       {"scan_fit_log", args.log},
+      {"scan_clutter", pipeline::scanClutterJson(clutter)},
       {"seconds", s.seconds}};
   if (!args.json.empty()) cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
@@ -173,6 +179,8 @@ void run(const VectorizeArgs& args) {
               "structure", s.lines, s.bridged, s.openings, r.extras.doors.size(), r.extras.rooms.size(),
               r.extras.clutter.segments.size());
   if (!args.log.empty()) std::printf("%-22s %s\n", "walls onto returns", cli::scanFitSummary(fit).c_str());
+  if (!args.log.empty() && args.scan_clutter.enabled)
+    std::printf("%-22s %s\n", "clutter from returns", cli::scanClutterSummary(clutter).c_str());
   if (georef) std::printf("%-22s %s\n", "georeference", cli::georefSummary(*georef).c_str());
   std::printf("%-22s %.3f s\n", "time", s.seconds);
   for (const auto& p : written) std::printf("%-22s %s\n", "wrote", p.string().c_str());
@@ -249,6 +257,13 @@ const cli::Registrar reg(50, [](CLI::App& app) {
                   "wall and clutter segment then moves along its normal onto the densest 0.1 m wide band of the\n"
                   "log's returns nearest to it, as `map` does (corners, T junctions and doors follow)")
       ->check(CLI::ExistingPath);
+  cmd->add_flag("!--no-scan-clutter", args->scan_clutter.enabled,
+                "with --log: keep the clutter layer the cells draw; by default it is replaced by segments chosen\n"
+                "to explain the log's returns under 8 m that the walls leave (as `map` does)");
+  cmd->add_option("--clutter-min-share", args->scan_clutter.min_share,
+                  "with --log: the share of the log's returns under 8 m a clutter segment must explain")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1.0));
   cli::addLogOptions(*cmd, args->read);
   cli::addGeorefOptions(*cmd, args->georef);
   cmd->add_option("--json", args->json, "also write the figures to this JSON file");

@@ -8,12 +8,13 @@ of the chosen settings per profile; writes every run to OUT/results.csv and a ch
 Settings are "name=extra localize arguments", separated by ';'. "default" (no extra argument) is
 always run. "oracle" is a setting made per run: the simulator's own numbers (meta.json) as a
 sensor profile (`--sensor`): the range noise, spurious-reading weights and glass lobe that made
-the log.
+the log. "calibrated" is also made per run: the profile `glassmap calibrate LOG --map PLAN` fits to
+the log against the plan, given with `--sensor` (the default fits the model inside the filter).
 
 Usage: tools/loc_sweep.py [--glassmap build/tools/glassmap] [--out out/loc_sweep]
     [--scenes paper-corridor,glass-corridor,no-glass,office-floor]
     [--sensors sick-lms200,...,random:1] [--seeds 1] [--settings "p500=--min-particles 500;..."]
-    [--models glass] [--oracle] [--jobs 2]
+    [--models glass] [--oracle] [--calibrated] [--jobs 2]
 """
 import argparse
 import csv
@@ -61,6 +62,8 @@ def main():
     ap.add_argument("--beams", type=int, default=15)
     ap.add_argument("--settings", default="", help="name=extra localize arguments, separated by ';'")
     ap.add_argument("--oracle", action="store_true", help="also run the 'oracle' setting (the simulator's numbers)")
+    ap.add_argument("--calibrated", action="store_true",
+                    help="also run the 'calibrated' setting (`glassmap calibrate LOG --map PLAN` as --sensor)")
     ap.add_argument("--sim-args", default="", help="extra `glassmap simulate` arguments (e.g. --rate 10)")
     ap.add_argument("--motion", default="",
                     help="scene motion keys to override, as YAML (e.g. '{odom_trans_sigma: 0.05}'): the scene is "
@@ -72,6 +75,8 @@ def main():
     seeds = [int(s) for s in a.seeds.split(",")]
     models = a.models.split(",")
     settings = [("default", "")] + [tuple(s.split("=", 1)) for s in a.settings.split(";") if s]
+    if a.calibrated:
+        settings.append(("calibrated", "@calibrated"))
     if a.oracle:
         settings.append(("oracle", None))
     sim_tag = (a.sim_args + a.motion).replace("--", "").replace(" ", "").replace(":", "=") or "plain"
@@ -102,6 +107,9 @@ def main():
                  "--sensor", sensor, "-q"] + a.sim_args.split())
         if a.oracle and not os.path.exists(os.path.join(d, "oracle.yaml")):
             oracle_profile(json.load(open(os.path.join(d, "meta.json"))), os.path.join(d, "oracle.yaml"))
+        if a.calibrated and not os.path.exists(os.path.join(d, "calibrated.yaml")):
+            run([gm, "calibrate", os.path.join(d, "log.clf"), "--map", os.path.join(d, "floorplan.gpkg"),
+                 "-o", os.path.join(d, "calibrated.yaml"), "-q"])
 
     def localize(job):
         scene, sensor, seed, model, (name, extra) = job
@@ -109,7 +117,12 @@ def main():
         r = os.path.join(d, f"{model}-{name}")
         os.makedirs(r, exist_ok=True)
         init = json.load(open(os.path.join(d, "meta.json")))["start_pose"]
-        args = ["--sensor", os.path.join(d, "oracle.yaml")] if extra is None else extra.split()
+        if extra is None:
+            args = ["--sensor", os.path.join(d, "oracle.yaml")]
+        elif extra == "@calibrated":
+            args = ["--sensor", os.path.join(d, "calibrated.yaml")]
+        else:
+            args = extra.split()
         run([gm, "localize", "--map", os.path.join(d, "floorplan.gpkg"), os.path.join(d, "log.clf"),
              "-o", os.path.join(r, "est.tum"), "--model", model, "--beams", a.beams, "--seed", seed,
              "--init", "%.6f,%.6f,%.6f" % tuple(init), "-q", "--json", os.path.join(r, "loc.json")] + args)

@@ -131,6 +131,8 @@ void bindMap(py::module_& m) {
         if (o.get("keep_opaque_glass", flag)) options.opaque_glass = !flag;
         if (o.get("keep_phantoms", flag)) options.phantoms = !flag;
         if (o.get("no_scan_fit", flag)) options.scan_fit.enabled = !flag;
+        if (o.get("no_scan_clutter", flag)) options.scan_clutter.enabled = !flag;
+        o.range("clutter_min_share", options.scan_clutter.min_share, 1e-6, 1.0);
         o.range("phantom_fraction", options.phantom.min_folded_fraction, 0.0, 1.0);
         o.positive("phantom_margin", options.phantom.block_margin);
         o.positive("resolution", mp.resolution);
@@ -194,10 +196,11 @@ void bindMap(py::module_& m) {
       "Maps a laser log (a Log or a path) as `glassmap map` does, with the same defaults; options are\n"
       "its long options with underscores: method ('heuristic', 'direct', 'mrf'), mrf_solver, mrf_psi,\n"
       "mrf_weight, no_vector, keep_unfitted_glass, sparse_panes, keep_opaque_glass, keep_phantoms,\n"
-      "no_scan_fit, phantom_fraction, phantom_margin,\n"
+      "no_scan_fit, no_scan_clutter, clutter_min_share, phantom_fraction, phantom_margin,\n"
       "resolution [m], max_memory [MB], angle_bin [deg], range_cap, no_return_range, miss_margin [m],\n"
       "laser_id, sigmoid_margin, direct_sigma, direct_peak, prior_glass, prior_occupied, p_hit_empty,\n"
-      "p_hit_empty_from_log, p_hit_occupied, min_glass_hits, heuristic_min_hits, heuristic_min_misses, sensor (a profile\n"
+      "p_hit_empty_from_log, p_hit_occupied, min_glass_hits, heuristic_min_hits, heuristic_min_misses, sensor (a "
+      "profile\n"
       "file or dict), no_calibrate, profile_lobe, lobe_search, calibration_rounds, spool_dir (where a log read from a\n"
       "path whose scans need more than a quarter of max_memory is kept, in an unnamed temporary file;\n"
       "default: the system's temporary folder, TMPDIR). Returns a MapResult.");

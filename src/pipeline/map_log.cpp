@@ -351,6 +351,16 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
     out = mapOnce(log, options, progress);
   }
 
+  // The clutter layer that explains the returns the building leaves (once, on the final plan).
+  if (out.has_floorplan && options.fit_floorplan && options.scan_clutter.enabled) {
+    if (progress) progress("scan clutter", 0.0);
+    const vector::LabelGrid labels = vector::toLabelGrid(out.evidence);
+    out.scan_clutter =
+        vector::clutterFromScans(out.floorplan, log, options.mapping.beams, &labels, {}, options.scan_clutter);
+    out.seconds.scan_clutter = out.scan_clutter.seconds;
+    if (progress) progress("scan clutter", 1.0);
+  }
+
   // Back to the log's frame.
   if (!local.offset.isZero()) {
     out.evidence.geometry.origin += local.offset;

@@ -172,6 +172,13 @@ nlohmann::json mapOptionsJson(const MapOptions& options) {
             {"tolerance", options.scan_fit.tolerance},
             {"min_gain", options.scan_fit.min_gain},
             {"min_returns", options.scan_fit.min_returns}}},
+          {"scan_clutter",
+           {{"enabled", options.scan_clutter.enabled},
+            {"tolerance", options.scan_clutter.tolerance},
+            {"max_range", options.scan_clutter.max_range},
+            {"min_share", options.scan_clutter.min_share},
+            {"max_gap", options.scan_clutter.max_gap},
+            {"max_free", options.scan_clutter.max_free}}},
           {"sparse_panes",
            {{"enabled", options.sparse_panes},
             {"angle_tol_deg", options.sparse.angle_tol_deg},
@@ -247,6 +254,7 @@ nlohmann::json mapStatsJson(const MapResult& result, const MapOptions& options, 
                         {"phantoms", result.seconds.phantoms},
                         {"vectorize", floorplan.stats.seconds},
                         {"scan_fit", result.seconds.scan_fit},
+                        {"scan_clutter", result.seconds.scan_clutter},
                         {"calibration", result.seconds.calibration},
                         {"total", run.seconds_total}}},
                       {"sensor", profileJson(result.profile)},
@@ -282,6 +290,7 @@ nlohmann::json mapStatsJson(const MapResult& result, const MapOptions& options, 
                         {"cells_cleared", phantom.cells_cleared}}},
                       {"glass_cells_off_segments", result.pruned_glass},
                       {"scan_fit", scanFitJson(result.scan_fit)},
+                      {"scan_clutter", scanClutterJson(result.scan_clutter)},
                       {"glass_segments", floorplan.map.count(Material::Glass)},
                       {"wall_segments", floorplan.map.count(Material::Wall)},
                       {"peak_memory_bytes", run.peak_memory_bytes},
@@ -314,6 +323,17 @@ nlohmann::json sensorParamsJson(const sensor::SensorParams& p) {
           {"direct_floor", p.direct_floor},
           {"normal_lambda_per_deg", p.lambda_normal},
           {"normal_floor", p.normal_floor}};
+}
+
+nlohmann::json scanClutterJson(const vector::ScanClutterStats& s) {
+  return {{"returns", s.returns},
+          {"unexplained", s.unexplained},
+          {"replaced", s.replaced},
+          {"added", s.added},
+          {"explained_before", s.explained_before},
+          {"explained_walls", s.explained_walls},
+          {"explained_after", s.explained_after},
+          {"candidates", s.candidates}};
 }
 
 nlohmann::json scanFitJson(const vector::ScanFitStats& s) {

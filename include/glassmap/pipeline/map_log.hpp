@@ -20,6 +20,7 @@
 #include "glassmap/glass/sparse_panes.hpp"
 #include "glassmap/mrf/refine.hpp"
 #include "glassmap/sensor/calibrate.hpp"
+#include "glassmap/vector/scan_clutter.hpp"
 #include "glassmap/vector/scan_fit.hpp"
 #include "glassmap/vector/vectorize.hpp"
 
@@ -54,6 +55,9 @@ struct MapOptions {
   /// The floorplan's walls and clutter moved onto the log's returns (vector/scan_fit.hpp); off
   /// with scan_fit.enabled = false.
   vector::ScanFitOptions scan_fit;
+  /// The final floorplan's clutter layer chosen to explain the returns its walls and panes leave
+  /// (vector/scan_clutter.hpp); off with scan_clutter.enabled = false (the cells' clutter stays).
+  vector::ScanClutterOptions scan_clutter;
   /// The laser's profile. Unset and `calibrate` on (the default): the range noise is estimated
   /// from neighbouring readings within scans (sensor::inScanNoise, no map needed), a first pass
   /// maps the log with the thresholds it sets, the rest of the profile is fitted against that
@@ -134,6 +138,7 @@ struct MapTimes {
   double phantoms = 0.0;                              ///< mirror phantoms (0 when skipped)
   double vectorize = 0.0;                             ///< vectorization (0 when skipped)
   double scan_fit = 0.0;                              ///< walls onto the returns (0 when skipped)
+  double scan_clutter = 0.0;                          ///< clutter from the returns (0 when skipped)
   double calibration = 0.0;                           ///< first passes and profile fits (0 when skipped)
   double total = 0.0;                                 ///< the whole call
 };
@@ -150,6 +155,7 @@ struct MapResult {
   bool has_floorplan = false;             ///< the floorplan was fitted
   std::size_t pruned_glass = 0;           ///< glass cells the pane fit relabelled
   vector::ScanFitStats scan_fit;          ///< the walls moved onto the returns (zero when skipped)
+  vector::ScanClutterStats scan_clutter;  ///< the clutter layer chosen from the returns (zero when skipped)
   SensorProfile profile;                  ///< the profile the final pass used
   bool calibrated = false;                ///< profile was fitted from this log
   sensor::CalibrationResult calibration;  ///< the fit of `profile` (when calibrated)

@@ -64,6 +64,10 @@ nlohmann::json sensorParamsJson(const sensor::SensorParams& params);
 /// --json` write it.
 nlohmann::json scanFitJson(const vector::ScanFitStats& stats);
 
+/// What the clutter layer chosen from the returns is (vector::clutterFromScans), as `stats.json`
+/// and `vectorize --json` write it.
+nlohmann::json scanClutterJson(const vector::ScanClutterStats& stats);
+
 /// The summary of a localization run (`glassmap localize --json`).
 nlohmann::json localizeSummaryJson(const LocalizeResult& result, const LocalizeOptions& options);
 
