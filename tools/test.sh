@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
 # Sets up (packages + build) and runs the whole test suite through CTest.
+# GLASSMAP_SKIP_HEAVY=1 leaves out the long end-to-end tests listed in tests/heavy_tests.txt
+# (CI does so in its sanitizer build, after running them all in Release).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build_dir=${GLASSMAP_BUILD_DIR:-$here/build}
@@ -8,4 +10,10 @@ cd "$build_dir"
 # Sanitizer builds: third-party process-lifetime caches are not leaks of ours.
 export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$here/tests/lsan.supp}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
-ctest --output-on-failure -j "$(nproc 2>/dev/null || echo 2)"
+exclude=()
+if [ "${GLASSMAP_SKIP_HEAVY:-0}" = 1 ]; then
+  regex=$(grep -v '^#' "$here/tests/heavy_tests.txt" | grep -v '^$' | paste -sd'|')
+  exclude=(-E "$regex")
+  echo "test.sh: leaving out the tests of tests/heavy_tests.txt" >&2
+fi
+ctest --output-on-failure -j "$(nproc 2>/dev/null || echo 2)" "${exclude[@]}"
