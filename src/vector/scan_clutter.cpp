@@ -341,10 +341,13 @@ ScanClutterStats clutterFromScans(VectorizeResult& plan, const LaserLog& log, co
           [&](const grid::Beam& beam) {
             if (!(beam.range < o.max_range)) return;
             ++k.returns;
-            const bool by_wall = near(wall_index, walls, beam.to);
+            // To the millimetre: a log whose angles were stored as float32 (a ROS bag) then gives
+            // the same returns as its double original, but where one lies on a rounding edge.
+            const Vec2 p = (beam.to / 1e-3).array().round().matrix() * 1e-3;
+            const bool by_wall = near(wall_index, walls, p);
             k.near_walls += by_wall ? 1 : 0;
-            k.near_any += (by_wall || near(all_index, all, beam.to)) ? 1 : 0;
-            if (!by_wall && !inFreeSpace(free_space, to_grid, beam.to)) k.points.push_back(beam.to);
+            k.near_any += (by_wall || near(all_index, all, p)) ? 1 : 0;
+            if (!by_wall && !inFreeSpace(free_space, to_grid, p)) k.points.push_back(p);
           },
           grid::BeamFilter::Hit);
     });

@@ -8,7 +8,11 @@
 // the whole plan, desks included, before the structure step: 0.84 / 0.90 / 0.92 / 0.94). Wall
 // recall falls short where the robot never saw a wall (paper-corridor's far rooms); against the
 // walls in line of sight of some laser pose, wall F1 is 0.95 / 0.94 / 0.94 / 0.98. Of the desks'
-// outlines 0-11% lies in the walls, 37-57% in the clutter layer (the rest was never seen whole).
+// outlines 0-11% lies in the walls. The clutter layer holds the lines that explain the returns the
+// walls leave (vector/scan_clutter.hpp: each at least 1e-3 of the returns): 32% / 60% / 4% / 36% of
+// the desks' outlines (37-57% when it held every occupied blob's outline). On office-floor
+// (2.2 million returns, 99.1% of them explained by the walls and the cells' clutter) most desk
+// sides are hit by fewer than 2,000 returns: two lines replace the cells' 23 pieces there.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -150,9 +154,9 @@ TEST(PeopleE2E, PassersByDoNotBecomeGlassCells) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, SceneE2E,
-                         ::testing::Values(Expectation{"paper-corridor", 0.92, 1.5, 0.85, 0.93, 0.35},
+                         ::testing::Values(Expectation{"paper-corridor", 0.92, 1.5, 0.85, 0.93, 0.28},
                                            Expectation{"glass-corridor", 0.95, 0.5, 0.92, 0.92, 0.45},
-                                           Expectation{"office-floor", 0.90, 1.0, 0.91, 0.92, 0.30},
+                                           Expectation{"office-floor", 0.90, 1.0, 0.91, 0.92, 0.03},
                                            Expectation{"no-glass", 0.0, 0.0, 0.95, 0.95, 0.30}),
                          [](const auto& info) {
                            std::string n = info.param.scene;
