@@ -7,6 +7,7 @@
 #include <random>
 
 #include "glassmap/vector/scan_clutter.hpp"
+#include "vector/synthetic_scans.hpp"
 
 namespace glassmap::vector {
 namespace {
@@ -18,29 +19,7 @@ MapSegment seg(Vec2 a, Vec2 b) {
   return s;
 }
 
-// A 360-beam scan from `at` of `truth` (the nearest crossing per beam), with 1 cm range noise.
-LaserScan scanOf(const Pose2& at, const std::vector<MapSegment>& truth, std::mt19937_64& rng) {
-  LaserScan s;
-  s.start_angle = -kPi;
-  s.angular_step = 2.0 * kPi / 360.0;
-  s.max_range = 30.0;
-  s.laser_pose = at;
-  std::normal_distribution<double> noise(0.0, 0.01);
-  for (int i = 0; i < 360; ++i) {
-    const double th = at.theta + s.beamAngle(static_cast<std::size_t>(i));
-    const Vec2 d(std::cos(th), std::sin(th));
-    double best = 40.0;
-    for (const MapSegment& w : truth) {
-      const Vec2 e = w.b - w.a, q = w.a - at.t;
-      const double den = d.x() * e.y() - d.y() * e.x();
-      if (std::abs(den) < 1e-12) continue;
-      const double t = (q.x() * e.y() - q.y() * e.x()) / den, u = (q.x() * d.y() - q.y() * d.x()) / den;
-      if (t > 0 && u >= 0 && u <= 1) best = std::min(best, t);
-    }
-    s.ranges.push_back(best < 30.0 ? static_cast<float>(best + noise(rng)) : std::numeric_limits<float>::infinity());
-  }
-  return s;
-}
+using synthetic::scanOf;
 
 // A 6 m x 4 m room (the plan's walls).
 std::vector<MapSegment> room() {
