@@ -29,18 +29,25 @@ class Returns {
  public:
   Returns(std::vector<Vec2f> raw, double cell) {
     constexpr float kMerge = 0.02f;
-    auto key = [&](const Vec2f& p) {
-      return std::pair<std::int64_t, std::int64_t>(static_cast<std::int64_t>(std::floor(p.y() / kMerge)),
-                                                   static_cast<std::int64_t>(std::floor(p.x() / kMerge)));
+    // Each return's 2 cm square (row, column), sorted once with the return's index: the same
+    // order, and so the same sums, whatever the sort does with equal keys.
+    struct Keyed {
+      std::int64_t row, col;
+      std::uint32_t index;
+      bool operator<(const Keyed& k) const {
+        return row != k.row ? row < k.row : (col != k.col ? col < k.col : index < k.index);
+      }
     };
-    std::sort(raw.begin(), raw.end(), [&](const Vec2f& a, const Vec2f& b) {
-      const auto ka = key(a), kb = key(b);
-      return ka != kb ? ka < kb : (a.x() != b.x() ? a.x() < b.x() : a.y() < b.y());
-    });
-    for (std::size_t i = 0; i < raw.size();) {
+    std::vector<Keyed> keyed(raw.size());
+    for (std::size_t i = 0; i < raw.size(); ++i)
+      keyed[i] = {static_cast<std::int64_t>(std::floor(raw[i].y() / kMerge)),
+                  static_cast<std::int64_t>(std::floor(raw[i].x() / kMerge)), static_cast<std::uint32_t>(i)};
+    std::sort(keyed.begin(), keyed.end());
+    for (std::size_t i = 0; i < keyed.size();) {
       std::size_t j = i;
       Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-      while (j < raw.size() && key(raw[j]) == key(raw[i])) sum += raw[j++].cast<double>();
+      while (j < keyed.size() && keyed[j].row == keyed[i].row && keyed[j].col == keyed[i].col)
+        sum += raw[keyed[j++].index].cast<double>();
       points_.push_back((sum / static_cast<double>(j - i)).cast<float>());
       weight_.push_back(static_cast<std::uint32_t>(j - i));
       i = j;
