@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <string>
 #include <vector>
 
 namespace glassmap::cli {
@@ -101,11 +102,13 @@ std::string scanFitSummary(const vector::ScanFitStats& s) {
 }
 
 std::string scanClutterSummary(const vector::ScanClutterStats& s) {
-  char line[200];
+  char line[260];
   std::snprintf(line, sizeof line,
-                "%zu segments in place of %zu; returns under 8 m near a segment %.1f%% -> %.1f%% (walls and panes "
+                "%zu segments in place of %zu%s; returns under 8 m near a segment %.1f%% -> %.1f%% (walls and panes "
                 "alone %.1f%%)",
-                s.added, s.replaced, 100.0 * s.explained_before, 100.0 * s.explained_after, 100.0 * s.explained_walls);
+                s.added, s.replaced,
+                s.restored > 0 ? (", " + std::to_string(s.restored) + " of the cells' kept").c_str() : "",
+                100.0 * s.explained_before, 100.0 * s.explained_after, 100.0 * s.explained_walls);
   return line;
 }
 

@@ -330,6 +330,7 @@ nlohmann::json scanClutterJson(const vector::ScanClutterStats& s) {
           {"unexplained", s.unexplained},
           {"replaced", s.replaced},
           {"added", s.added},
+          {"restored", s.restored},
           {"explained_before", s.explained_before},
           {"explained_walls", s.explained_walls},
           {"explained_after", s.explained_after},

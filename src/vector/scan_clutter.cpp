@@ -317,28 +317,39 @@ ScanClutterStats clutterFromScans(VectorizeResult& plan, const LaserLog& log, co
   ScanClutterStats stats;
   if (!o.enabled || !(o.tolerance > 0) || !(o.seed_cell > 0) || !(o.angle_step_deg > 0)) return stats;
 
-  // The returns, and which of them the walls and panes (and the old clutter) explain.
-  std::vector<MapSegment*> walls, all;
-  for (MapSegment& s : plan.map.segments)
-    if (s.length() > 0) walls.push_back(&s), all.push_back(&s);
-  for (MapSegment& s : plan.extras.clutter.segments)
-    if (s.length() > 0) all.push_back(&s);
-  const detail::SegmentIndex wall_index(walls, o.tolerance), all_index(all, o.tolerance);
-  const auto near = [&](const detail::SegmentIndex& index, const std::vector<MapSegment*>& segs, const Vec2& p) {
-    const auto* cands = index.near(p);
-    if (cands)
-      for (std::uint32_t k : *cands)
-        if (segs[k]->distanceTo(p) <= o.tolerance) return true;
-    return false;
+  // The returns, which of them the walls and panes explain, and which the cells' clutter pieces
+  // (kept aside: the step gives some of them back if its lines explain less than they did).
+  const std::vector<MapSegment> pieces = std::move(plan.extras.clutter.segments);
+  plan.extras.clutter.segments.clear();
+  std::vector<const MapSegment*> walls, cells;
+  for (const MapSegment& s : plan.map.segments)
+    if (s.length() > 0) walls.push_back(&s);
+  for (const MapSegment& s : pieces)
+    if (s.length() > 0) cells.push_back(&s);
+  const detail::SegmentIndex wall_index(walls, o.tolerance), cell_index(cells, o.tolerance);
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  // The segment of `segs` nearest to p within the tolerance (the lower index on a tie), or kNone.
+  const auto nearest = [&](const detail::SegmentIndex& index, const std::vector<const MapSegment*>& segs,
+                           const Vec2& p) {
+    std::uint32_t which = kNone;
+    double best = o.tolerance;
+    if (const auto* cands = index.near(p))
+      for (std::uint32_t k : *cands) {
+        const double d = segs[k]->distanceTo(p);
+        if (d < best || (d == best && k < which)) best = d, which = k;
+      }
+    return which;
   };
   bool have_origin = false;
   Vec2 origin = Vec2::Zero();
   std::vector<Vec2f> unexplained;
-  std::size_t returns = 0, near_walls = 0, near_any = 0;
+  std::vector<std::size_t> free_near_piece(cells.size(), 0);  // returns in free space near each piece
+  std::size_t returns = 0, near_walls = 0, near_cells = 0;
   forEachScanBlock(log, [&](std::span<const LaserScan> block, std::size_t) {
     struct Kept {
       std::vector<Vec2> points;
-      std::size_t returns = 0, near_walls = 0, near_any = 0;
+      std::vector<std::uint32_t> free_pieces;
+      std::size_t returns = 0, near_walls = 0, near_cells = 0;
     };
     std::vector<Kept> kept(block.size());
     tbb::parallel_for(std::size_t{0}, block.size(), [&](std::size_t i) {
@@ -351,17 +362,24 @@ ScanClutterStats clutterFromScans(VectorizeResult& plan, const LaserLog& log, co
             // To the millimetre: a log whose angles were stored as float32 (a ROS bag) then gives
             // the same returns as its double original, but where one lies on a rounding edge.
             const Vec2 p = (beam.to / 1e-3).array().round().matrix() * 1e-3;
-            const bool by_wall = near(wall_index, walls, p);
-            k.near_walls += by_wall ? 1 : 0;
-            k.near_any += (by_wall || near(all_index, all, p)) ? 1 : 0;
-            if (!by_wall && !inFreeSpace(free_space, to_grid, p)) k.points.push_back(p);
+            if (nearest(wall_index, walls, p) != kNone) {
+              ++k.near_walls;
+              return;
+            }
+            const std::uint32_t piece = nearest(cell_index, cells, p);
+            k.near_cells += piece != kNone ? 1 : 0;
+            if (!inFreeSpace(free_space, to_grid, p))
+              k.points.push_back(p);
+            else if (piece != kNone)
+              k.free_pieces.push_back(piece);
           },
           grid::BeamFilter::Hit);
     });
     for (const Kept& k : kept) {
       returns += k.returns;
       near_walls += k.near_walls;
-      near_any += k.near_any;
+      near_cells += k.near_cells;
+      for (std::uint32_t piece : k.free_pieces) ++free_near_piece[piece];
       for (const Vec2& p : k.points) {
         if (!have_origin) origin = p, have_origin = true;
         unexplained.push_back((p - origin).cast<float>());
@@ -370,11 +388,12 @@ ScanClutterStats clutterFromScans(VectorizeResult& plan, const LaserLog& log, co
   });
   stats.returns = returns;
   stats.unexplained = unexplained.size();
-  if (returns == 0) return stats;
-  stats.explained_before = static_cast<double>(near_any) / static_cast<double>(returns);
+  if (returns == 0) {
+    plan.extras.clutter.segments = pieces;
+    return stats;
+  }
+  stats.explained_before = static_cast<double>(near_walls + near_cells) / static_cast<double>(returns);
   stats.explained_walls = static_cast<double>(near_walls) / static_cast<double>(returns);
-  stats.replaced = plan.extras.clutter.segments.size();
-  plan.extras.clutter.segments.clear();
 
   // Every seed cell's best line, in parallel (each writes its own slot), then the lazy greedy cover.
   Returns r(std::move(unexplained), o.seed_cell);
@@ -418,6 +437,29 @@ ScanClutterStats clutterFromScans(VectorizeResult& plan, const LaserLog& log, co
   }
   stats.added = plan.extras.clutter.segments.size();
   stats.candidates = candidates;
+
+  // The lines never explain less than the cells' pieces did: where they do (many small objects,
+  // each hit by fewer than min_share of a long log's returns), the pieces whose returns no line
+  // took come back, those with the most first, until the share is reached again.
+  if (near_walls + covered < near_walls + near_cells) {
+    std::vector<std::size_t> gain = free_near_piece;
+    for (std::uint32_t i = 0; i < r.size(); ++i)
+      if (r.alive(i)) {
+        const std::uint32_t piece = nearest(cell_index, cells, origin + r.point(i).cast<double>());
+        if (piece != kNone) gain[piece] += r.weight(i);
+      }
+    std::vector<std::uint32_t> order(cells.size());
+    for (std::uint32_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(),
+              [&](std::uint32_t x, std::uint32_t y) { return gain[x] != gain[y] ? gain[x] > gain[y] : x < y; });
+    for (std::uint32_t k : order) {
+      if (covered >= near_cells || gain[k] == 0) break;
+      plan.extras.clutter.segments.push_back(*cells[k]);
+      covered += gain[k];
+      ++stats.restored;
+    }
+  }
+  stats.replaced = cells.size() - stats.restored;
   stats.explained_after = static_cast<double>(near_walls + covered) / static_cast<double>(returns);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;

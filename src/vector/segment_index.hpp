@@ -15,9 +15,11 @@ namespace glassmap::vector::detail {
 // Segments bucketed by the square cells their box (grown by `reach`) covers.
 class SegmentIndex {
  public:
-  SegmentIndex(const std::vector<MapSegment*>& segs, double reach) {
+  // `segs`: pointers to the segments (MapSegment* or const MapSegment*), indexed by position.
+  template <class SegmentPtr>
+  SegmentIndex(const std::vector<SegmentPtr>& segs, double reach) {
     Eigen::AlignedBox2d box;
-    for (const MapSegment* s : segs) box.extend(s->a), box.extend(s->b);
+    for (const auto& s : segs) box.extend(s->a), box.extend(s->b);
     if (box.isEmpty()) return;
     origin_ = box.min() - Vec2::Constant(reach);
     const Vec2 size = box.sizes() + Vec2::Constant(2.0 * reach);

@@ -149,6 +149,39 @@ TEST(ScanClutter, ASegmentMustExplainItsShareOfTheReturns) {
   EXPECT_EQ(kept.extras.clutter.segments.size(), 10u);
 }
 
+TEST(ScanClutter, TheLinesNeverExplainLessThanTheCellsPiecesDid) {
+  // The cells drew the desk and the shelf (in two pieces each) and a piece nowhere; no line
+  // explains a fifth of the returns, so the pieces with returns come back until the plan
+  // explains what it did before; the stray piece does not.
+  const LaserLog log = roomLog({kDesk, kShelf});
+  const LabelGrid labels = roomLabels({kDesk, kShelf});
+  VectorizeResult plan;
+  plan.map.segments = room();
+  plan.extras.clutter.add(Vec2(1.5, 0.8), Vec2(2.5, 0.8), Material::Wall);
+  plan.extras.clutter.add(Vec2(2.5, 0.8), Vec2(3.5, 0.8), Material::Wall);
+  plan.extras.clutter.add(Vec2(5.4, 2.2), Vec2(5.4, 2.8), Material::Wall);
+  plan.extras.clutter.add(Vec2(5.4, 2.8), Vec2(5.4, 3.4), Material::Wall);
+  plan.extras.clutter.add(Vec2(0.5, 3.6), Vec2(0.7, 3.6), Material::Wall);
+  ScanClutterOptions strict;
+  strict.min_share = 0.2;
+  const ScanClutterStats st = clutterFromScans(plan, log, grid::BeamOptions{}, &labels, {}, strict);
+  EXPECT_EQ(st.added, 0u);
+  EXPECT_EQ(st.restored, 4u);
+  EXPECT_EQ(st.replaced, 1u);
+  EXPECT_GT(st.explained_before, st.explained_walls + 0.05);
+  EXPECT_GE(st.explained_after, st.explained_before - 1e-3);  // up to the 2 cm merge of the returns
+  ASSERT_EQ(plan.extras.clutter.segments.size(), 4u);
+  for (const MapSegment& s : plan.extras.clutter.segments) EXPECT_GT(s.a.y(), 0.5);  // not the stray piece
+  // With the default share the lines explain more than the pieces: none comes back.
+  VectorizeResult lines;
+  lines.map.segments = room();
+  lines.extras.clutter = plan.extras.clutter;
+  const ScanClutterStats st2 = clutterFromScans(lines, log, grid::BeamOptions{}, &labels);
+  EXPECT_EQ(st2.restored, 0u);
+  EXPECT_GE(st2.added, 2u);
+  EXPECT_GE(st2.explained_after, st2.explained_before);
+}
+
 TEST(ScanClutter, TheLabelsMayLieInAFrameOfTheirOwn) {
   // A ROS map whose origin is rotated: the labels in their own frame, placed by a pose.
   const LaserLog log = roomLog({kDesk}, true);

@@ -9,7 +9,10 @@
 /// principal axis of its returns), grown along its line while its returns leave no gap over
 /// `max_gap`, and scored by the returns it explains that no chosen segment explains yet; the best
 /// candidate is taken while it explains at least `min_share` of all the returns (lazy greedy: a
-/// candidate whose returns another took is refitted before it competes again).
+/// candidate whose returns another took is refitted before it competes again). The lines never
+/// explain less than the cells' pieces did: where they would (a long log of a large floor, whose
+/// many small objects are each hit by fewer than `min_share` of its returns), the cells' pieces
+/// come back, those whose returns no line took first, until the share is reached again.
 
 #include <cstddef>
 
@@ -39,8 +42,9 @@ struct ScanClutterStats {
   std::size_t returns = 0;        ///< returns under max_range
   std::size_t unexplained = 0;    ///< of them, over `tolerance` from every wall and pane and
                                   ///< not in free space (see clutterFromScans)
-  std::size_t replaced = 0;       ///< clutter segments of the cells given up
-  std::size_t added = 0;          ///< clutter segments chosen from the returns
+  std::size_t replaced = 0;       ///< clutter segments of the cells given up ...
+  std::size_t added = 0;          ///< ... clutter segments chosen from the returns ...
+  std::size_t restored = 0;       ///< ... and of the cells' given back (see clutterFromScans)
   double explained_before = 0.0;  ///< share of the returns near some segment, walls and clutter as drawn ...
   double explained_walls = 0.0;   ///< ... near a wall or pane alone ...
   double explained_after = 0.0;   ///< ... and with the chosen clutter [-]
