@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sets up (packages + build) and runs the whole test suite through CTest.
 # GLASSMAP_SKIP_HEAVY=1 leaves out the long end-to-end tests listed in tests/heavy_tests.txt
-# (CI does so in its sanitizer build, after running them all in Release).
+# (for the whole suite run sanitized by hand, see .ci/run; the Release suite runs them all).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build_dir=${GLASSMAP_BUILD_DIR:-$here/build}
