@@ -15,12 +15,16 @@ namespace glassmap::ros2 {
 
 FileKind sniffFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  std::array<char, 16> head{};
-  if (!in.read(head.data(), head.size()) && in.gcount() < static_cast<std::streamsize>(mcap::kMagic.size()))
-    return FileKind::Other;
+  // The SQLite header is 100 bytes; its application id (bytes 68-71) says "GPKG" in a GeoPackage,
+  // an SQLite file that is a floorplan, not a bag.
+  std::array<char, 72> head{};
+  in.read(head.data(), head.size());
+  const std::streamsize got = in.gcount();
+  if (got < static_cast<std::streamsize>(mcap::kMagic.size())) return FileKind::Other;
   if (std::equal(mcap::kMagic.begin(), mcap::kMagic.end(), reinterpret_cast<const std::uint8_t*>(head.data())))
     return FileKind::Mcap;
-  if (in.gcount() == 16 && std::memcmp(head.data(), "SQLite format 3\0", 16) == 0) return FileKind::Sqlite;
+  if (got >= 16 && std::memcmp(head.data(), "SQLite format 3\0", 16) == 0)
+    return got == 72 && std::memcmp(head.data() + 68, "GPKG", 4) == 0 ? FileKind::Other : FileKind::Sqlite;
   return FileKind::Other;
 }
 

@@ -206,6 +206,16 @@ TEST(Ros2Bag, BadMagicAndCorruptChunks) {
   EXPECT_FALSE(ros2::isBag(dir / "missing.mcap"));
   EXPECT_NE(errorOf([&] { (void)ros2::openBag(dir / "missing.mcap"); }).find("missing.mcap"), std::string::npos);
 
+  // An SQLite file is a bag, unless its header's application id says GeoPackage (a floorplan).
+  std::vector<std::uint8_t> sqlite(100, 0);
+  const char* magic = "SQLite format 3";
+  std::copy(magic, magic + 16, sqlite.begin());  // with its terminating zero
+  test::writeBytes(dir / "plan.db3", sqlite);
+  EXPECT_TRUE(ros2::isBag(dir / "plan.db3"));
+  std::copy_n("GPKG", 4, sqlite.begin() + 68);
+  test::writeBytes(dir / "plan.gpkg", sqlite);
+  EXPECT_FALSE(ros2::isBag(dir / "plan.gpkg"));
+
   // A flipped payload byte in an uncompressed chunk: the chunk CRC catches it, naming the chunk.
   for (bool summary : {false, true}) {
     BagWriteOptions opt;
