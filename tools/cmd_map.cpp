@@ -216,7 +216,8 @@ const cli::Registrar reg(40, [](CLI::App& app) {
                 "replaced by segments chosen to explain the returns under 8 m that the walls and panes leave\n"
                 "(a greedy cover: lines fitted through dense returns, grown while their returns leave no gap over\n"
                 "0.5 m and the line crosses no free space over 0.15 m, each taken while it explains at least\n"
-                "--clutter-min-share of all the returns; returns in free space, people walking, count for none)");
+                "--clutter-min-share of all the returns; returns in free space, people walking, count for none;\n"
+                "where those lines would explain less than the cells' pieces did, pieces come back until they do not)");
   cmd->add_option("--clutter-min-share", args->options.scan_clutter.min_share,
                   "the share of the log's returns under 8 m a clutter segment must explain to be drawn")
       ->capture_default_str()

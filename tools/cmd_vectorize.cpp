@@ -259,7 +259,8 @@ const cli::Registrar reg(50, [](CLI::App& app) {
       ->check(CLI::ExistingPath);
   cmd->add_flag("!--no-scan-clutter", args->scan_clutter.enabled,
                 "with --log: keep the clutter layer the cells draw; by default it is replaced by segments chosen\n"
-                "to explain the log's returns under 8 m that the walls leave (as `map` does)");
+                "to explain the log's returns under 8 m that the walls leave, never fewer than the cells' pieces\n"
+                "explained (as `map` does)");
   cmd->add_option("--clutter-min-share", args->scan_clutter.min_share,
                   "with --log: the share of the log's returns under 8 m a clutter segment must explain")
       ->capture_default_str()

@@ -119,35 +119,38 @@ struct Scratch {
   std::vector<std::pair<double, std::uint32_t>> along;  // (position along the line, return)
 };
 
-// Whether p lies in free space: its cell and the eight around it seen empty. A return there was
-// something the beams passed later (a person walking, a door moved), not a surface.
-bool inFreeSpace(const LabelGrid* grid, const Pose2& to_grid, const Vec2& p) {
-  if (!grid) return false;
-  const Vec2 q = (to_grid * p - grid->origin) / grid->resolution;
-  if (!(q.x() >= 0 && q.y() >= 0 && q.x() < grid->width && q.y() < grid->height)) return false;
-  const int x = static_cast<int>(q.x()), y = static_cast<int>(q.y());
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      const int nx = x + dx, ny = y + dy;
-      if (nx < 0 || ny < 0 || nx >= grid->width || ny >= grid->height || grid->code(nx, ny) != kCodeEmpty) return false;
-    }
-  return true;
-}
-
 // The map's labels, the map frame in the grid's, and where the returns' origin lies in the map.
 struct FreeSpace {
   const LabelGrid* grid = nullptr;
   Pose2 to_grid;
   Eigen::Vector2d shift = Eigen::Vector2d::Zero();
-};
 
-// Whether the line point p (relative to the returns' origin) lies in a cell seen empty.
-bool freeAt(const FreeSpace& space, const Eigen::Vector2d& p) {
-  const LabelGrid* grid = space.grid;
-  const Eigen::Vector2d q = (space.to_grid * Vec2(space.shift + p) - grid->origin) / grid->resolution;
-  return q.x() >= 0 && q.y() >= 0 && q.x() < grid->width && q.y() < grid->height &&
-         grid->code(static_cast<int>(q.x()), static_cast<int>(q.y())) == kCodeEmpty;
-}
+  // The cell (x, y) holding p (relative to the returns' origin), false outside the grid.
+  bool cellOf(const Eigen::Vector2d& p, int& x, int& y) const {
+    const Eigen::Vector2d q = (to_grid * Vec2(shift + p) - grid->origin) / grid->resolution;
+    if (!(q.x() >= 0 && q.y() >= 0 && q.x() < grid->width && q.y() < grid->height)) return false;
+    x = static_cast<int>(q.x()), y = static_cast<int>(q.y());
+    return true;
+  }
+  bool empty(int x, int y) const {
+    return x >= 0 && y >= 0 && x < grid->width && y < grid->height && grid->code(x, y) == kCodeEmpty;
+  }
+  // Whether the line point p lies in a cell seen empty.
+  bool at(const Eigen::Vector2d& p) const {
+    int x = 0, y = 0;
+    return cellOf(p, x, y) && empty(x, y);
+  }
+  // Whether the return p lies in free space: its cell and the eight around it seen empty. A return
+  // there was something the beams passed later (a person walking, a door moved), not a surface.
+  bool around(const Eigen::Vector2d& p) const {
+    int x = 0, y = 0;
+    if (!grid || !cellOf(p, x, y)) return false;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (!empty(x + dx, y + dy)) return false;
+    return true;
+  }
+};
 
 // The live returns within o.tolerance of the line through c along d, the contiguous run that
 // holds the return nearest to c: no gap over o.max_gap between its returns, and the line does
@@ -167,7 +170,7 @@ Line walkLine(const Returns& r, const Eigen::Vector2d& c, const Eigen::Vector2d&
     double reach = 0.0, next_cell = 0.0, free_from = -1.0;
     for (double t = 0.0; t <= end; t += free_step) {
       if (free_space.grid) {
-        if (!freeAt(free_space, c + sign * t * d)) {
+        if (!free_space.at(c + sign * t * d)) {
           free_from = -1.0;
         } else if (free_from < 0.0) {
           free_from = t;
@@ -313,6 +316,7 @@ Line fitAtSeed(const Returns& r, std::size_t seed, const ScanClutterOptions& o, 
 ScanClutterStats clutterFromScans(VectorizeResult& plan, const LaserLog& log, const grid::BeamOptions& beams,
                                   const LabelGrid* free_space, const Pose2& grid_pose, const ScanClutterOptions& o) {
   const Pose2 to_grid = grid_pose.inverse();
+  const FreeSpace labels{free_space, to_grid, Eigen::Vector2d::Zero()};  // returns in the map frame
   const auto t0 = std::chrono::steady_clock::now();
   ScanClutterStats stats;
   if (!o.enabled || !(o.tolerance > 0) || !(o.seed_cell > 0) || !(o.angle_step_deg > 0)) return stats;
@@ -328,17 +332,23 @@ ScanClutterStats clutterFromScans(VectorizeResult& plan, const LaserLog& log, co
     if (s.length() > 0) cells.push_back(&s);
   const detail::SegmentIndex wall_index(walls, o.tolerance), cell_index(cells, o.tolerance);
   constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-  // The segment of `segs` nearest to p within the tolerance (the lower index on a tie), or kNone.
-  const auto nearest = [&](const detail::SegmentIndex& index, const std::vector<const MapSegment*>& segs,
-                           const Vec2& p) {
+  // The cells' piece nearest to p within the tolerance (the lower index on a tie), or kNone.
+  const auto nearestPiece = [&](const Vec2& p) {
     std::uint32_t which = kNone;
     double best = o.tolerance;
-    if (const auto* cands = index.near(p))
+    if (const auto* cands = cell_index.near(p))
       for (std::uint32_t k : *cands) {
-        const double d = segs[k]->distanceTo(p);
+        const double d = cells[k]->distanceTo(p);
         if (d < best || (d == best && k < which)) best = d, which = k;
       }
     return which;
+  };
+  // Whether some wall or pane lies within the tolerance of p (the first found will do).
+  const auto byWall = [&](const Vec2& p) {
+    if (const auto* cands = wall_index.near(p))
+      for (std::uint32_t k : *cands)
+        if (walls[k]->distanceTo(p) <= o.tolerance) return true;
+    return false;
   };
   bool have_origin = false;
   Vec2 origin = Vec2::Zero();
@@ -362,13 +372,13 @@ ScanClutterStats clutterFromScans(VectorizeResult& plan, const LaserLog& log, co
             // To the millimetre: a log whose angles were stored as float32 (a ROS bag) then gives
             // the same returns as its double original, but where one lies on a rounding edge.
             const Vec2 p = (beam.to / 1e-3).array().round().matrix() * 1e-3;
-            if (nearest(wall_index, walls, p) != kNone) {
+            if (byWall(p)) {
               ++k.near_walls;
               return;
             }
-            const std::uint32_t piece = nearest(cell_index, cells, p);
+            const std::uint32_t piece = nearestPiece(p);
             k.near_cells += piece != kNone ? 1 : 0;
-            if (!inFreeSpace(free_space, to_grid, p))
+            if (!labels.around(p))
               k.points.push_back(p);
             else if (piece != kNone)
               k.free_pieces.push_back(piece);
@@ -445,7 +455,7 @@ ScanClutterStats clutterFromScans(VectorizeResult& plan, const LaserLog& log, co
     std::vector<std::size_t> gain = free_near_piece;
     for (std::uint32_t i = 0; i < r.size(); ++i)
       if (r.alive(i)) {
-        const std::uint32_t piece = nearest(cell_index, cells, origin + r.point(i).cast<double>());
+        const std::uint32_t piece = nearestPiece(origin + r.point(i).cast<double>());
         if (piece != kNone) gain[piece] += r.weight(i);
       }
     std::vector<std::uint32_t> order(cells.size());
