@@ -1,6 +1,7 @@
 #pragma once
-/// Coarse tiles of a label grid that hold glass, grown by one tile: a beam whose walk over the tiles
-/// meets none of them cannot cross a pane, and most beams of a floor never do.
+/// Coarse tiles of a grid that hold marked cells (glass, say), grown by one tile: a beam whose walk
+/// over the tiles meets none of them crosses no marked cell, and most beams of a floor never do;
+/// and an index of candidate cells by tile.
 
 #include <cstdint>
 #include <vector>
@@ -11,37 +12,55 @@
 
 namespace glassmap::glass::detail {
 
-class GlassTiles {
+/// Coarse tiles of `tile` x `tile` cells that hold a marked cell, grown by one tile (the coarse walk
+/// of a segment and its fine walk may round a corner differently): a segment whose walk over the
+/// tiles meets none of them crosses no marked cell.
+class MarkedTiles {
  public:
-  explicit GlassTiles(const CellEvidence& e) {
-    const grid::GridGeometry& g = e.geometry;
-    coarse_.resolution = g.resolution * kTile;
+  MarkedTiles(const grid::GridGeometry& g, int tile) : tile_(tile) {
+    coarse_.resolution = g.resolution * tile;
     coarse_.origin = g.origin;
-    coarse_.width = (g.width + kTile - 1) / kTile;
-    coarse_.height = (g.height + kTile - 1) / kTile;
-    glass_.assign(coarse_.cells(), 0);
-    for (int y = 0; y < g.height; ++y)
-      for (int x = 0; x < g.width; ++x) {
-        if (!isGlass(e.label[g.index(x, y)])) continue;
-        for (int ty = y / kTile - 1; ty <= y / kTile + 1; ++ty)
-          for (int tx = x / kTile - 1; tx <= x / kTile + 1; ++tx)
-            if (coarse_.contains(tx, ty)) glass_[coarse_.index(tx, ty)] = 1;
-      }
+    coarse_.width = (g.width + tile - 1) / tile;
+    coarse_.height = (g.height + tile - 1) / tile;
+    marked_.assign(coarse_.cells(), 0);
   }
-  /// True when segment a -> b passes a tile that holds glass (or its neighbour).
+  /// Marks fine cell (x, y) inside the grid.
+  void mark(int x, int y) {
+    for (int ty = y / tile_ - 1; ty <= y / tile_ + 1; ++ty)
+      for (int tx = x / tile_ - 1; tx <= x / tile_ + 1; ++tx)
+        if (coarse_.contains(tx, ty)) marked_[coarse_.index(tx, ty)] = 1;
+  }
+  /// True when segment a -> b passes a tile that holds a marked cell (or its neighbour).
   bool near(const Vec2& a, const Vec2& b) const {
     bool found = false;
     grid::traverse(coarse_, a, b, [&](int x, int y, double, bool) {
-      found = glass_[coarse_.index(x, y)] != 0;
+      found = marked_[coarse_.index(x, y)] != 0;
       return !found;
     });
     return found;
   }
 
  private:
-  static constexpr int kTile = 2;
+  int tile_;
   grid::GridGeometry coarse_;
-  std::vector<std::uint8_t> glass_;
+  std::vector<std::uint8_t> marked_;
+};
+
+/// Tiles of 2 x 2 cells that hold glass: a beam whose walk over them meets none cannot cross a
+/// pane, and most beams of a floor never do.
+class GlassTiles {
+ public:
+  explicit GlassTiles(const CellEvidence& e) : tiles_(e.geometry, 2) {
+    const grid::GridGeometry& g = e.geometry;
+    for (int y = 0; y < g.height; ++y)
+      for (int x = 0; x < g.width; ++x)
+        if (isGlass(e.label[g.index(x, y)])) tiles_.mark(x, y);
+  }
+  /// True when segment a -> b passes a tile that holds glass (or its neighbour).
+  bool near(const Vec2& a, const Vec2& b) const { return tiles_.near(a, b); }
+
+ private:
+  MarkedTiles tiles_;
 };
 
 /// CellEvidence::candidate without its binary search: candidate numbers in tiles of 32 x 32 cells,

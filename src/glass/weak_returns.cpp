@@ -17,10 +17,12 @@
 namespace glassmap::glass::sparse {
 namespace {
 
-// Returns and passes per candidate cell: a pass is a returned beam that crosses the cell and ends
-// at least `margin` beyond it.
+// Returns and passes per candidate cell, exact for the cells `targets` marks: a pass is a
+// returned beam that crosses the cell and ends at least `margin` beyond it. Only the beams whose
+// walk over the targets' tiles meets one are walked (the others neither end in nor cross one).
 void countPasses(const LaserLog& log, const grid::BeamOptions& beams, const CellEvidence& e, double margin,
-                 std::vector<std::uint32_t>& hits, std::vector<std::uint32_t>& passes) {
+                 const detail::MarkedTiles& targets, std::vector<std::uint32_t>& hits,
+                 std::vector<std::uint32_t>& passes) {
   const grid::GridGeometry& g = e.geometry;
   const detail::CandidateIndex index(e);
   struct Tally {
@@ -31,7 +33,7 @@ void countPasses(const LaserLog& log, const grid::BeamOptions& beams, const Cell
   });
   grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& t) {
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (!beam.hit) return;
+      if (!beam.hit || !targets.near(beam.from, beam.to)) return;
       const double pass_until = beam.range - margin;
       grid::traverse(g, beam.from, beam.to, [&](int x, int y, double enter, bool last) {
         const std::int64_t id = index.find(x, y);
@@ -59,34 +61,58 @@ WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, co
                          const CellEvidence& e)
     : bins_(kAngleBins), cells_per_bin_(kAngleBins, 0.0) {
   const grid::GridGeometry& g = e.geometry;
-  std::vector<std::uint32_t> hits, passes;
-  countPasses(log, beams, e, o.through_margin, hits, passes);
   // Distance to the nearest occupied cell: the ends and corners of walls, seen past from most
   // directions and hit from a few, and the noise-spread front of a wall seen at grazing incidence
   // look like faint panes too.
   std::vector<std::uint8_t> wall(g.cells());
   for (std::size_t i = 0; i < wall.size(); ++i) wall[i] = e.label[i] == kOccupied;
   const std::vector<float> wall_distance = grid::distanceTransform(g.width, g.height, wall);  // [cells]
-  forEachScanBlock(log, [&](std::span<const LaserScan> block, std::size_t) {
-    for (const LaserScan& scan : block) {
-      // Beyond this range a beam is wider than max_footprint cells: a cell's returns and passes then
-      // mix the surfaces the beam grazes.
-      const double max_range = o.max_footprint * g.resolution / std::max(std::abs(scan.angular_step), 1e-6);
-      grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-        if (!beam.hit || beam.range < o.min_range || beam.range > max_range) return;
-        const auto cell = static_cast<std::uint32_t>(g.index(g.cellAt(beam.to)));
-        const std::int64_t id = e.candidate(cell);
-        if (id < 0) return;
-        const auto c = static_cast<std::size_t>(id);
-        const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
-        const double clearance = std::max(o.wall_clearance, 3.0 * sigma);
-        if (wall_distance[cell] * g.resolution <= clearance || passes[c] < static_cast<std::uint32_t>(o.min_through) ||
-            hits[c] > o.max_hit_ratio * static_cast<double>(hits[c] + passes[c]))
-          return;
-        returns_.push_back({beam.to, beam.from, std::min(wrapPi(beam.angle), std::nextafter(kPi, 0.0)), cell});
-      });
-    }
+  // The returns that may be weak (in range, on a candidate, clear of the walls; the passes decide
+  // after), in scan order.
+  struct Candidate {
+    Vec2 at, from;
+    double angle;
+    std::uint32_t cell;
+    std::size_t c;
+  };
+  const double least_clearance = std::max(o.wall_clearance, 3.0 * o.range_sigma);
+  std::vector<std::vector<Candidate>> per_scan(log.scanCount());
+  tbb::enumerable_thread_specific<int> unused;
+  grid::forScansInParallel(log, {}, unused, [&](const LaserScan& scan, std::size_t index, int&) {
+    // Beyond this range a beam is wider than max_footprint cells: a cell's returns and passes then
+    // mix the surfaces the beam grazes.
+    const double max_range = o.max_footprint * g.resolution / std::max(std::abs(scan.angular_step), 1e-6);
+    std::vector<Candidate>& out = per_scan[index];
+    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
+      if (!beam.hit || beam.range < o.min_range || beam.range > max_range) return;
+      const auto cell = static_cast<std::uint32_t>(g.index(g.cellAt(beam.to)));
+      if (wall_distance[cell] * g.resolution <= least_clearance) return;
+      const std::int64_t id = e.candidate(cell);
+      if (id < 0) return;
+      const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
+      if (wall_distance[cell] * g.resolution <= std::max(o.wall_clearance, 3.0 * sigma)) return;
+      out.push_back({beam.to, beam.from, beam.angle, cell, static_cast<std::size_t>(id)});
+    });
   });
+  std::vector<Candidate> candidates;
+  for (std::vector<Candidate>& c : per_scan) {
+    candidates.insert(candidates.end(), c.begin(), c.end());
+    c = {};
+  }
+  // Their cells' passes: a pass over the beams that cross them.
+  detail::MarkedTiles targets(g, 8);
+  for (const Candidate& r : candidates) {
+    const grid::CellIndex at = g.cellOf(r.cell);
+    targets.mark(at.x, at.y);
+  }
+  std::vector<std::uint32_t> hits, passes;
+  if (!candidates.empty()) countPasses(log, beams, e, o.through_margin, targets, hits, passes);
+  for (const Candidate& r : candidates) {
+    if (passes[r.c] < static_cast<std::uint32_t>(o.min_through) ||
+        hits[r.c] > o.max_hit_ratio * static_cast<double>(hits[r.c] + passes[r.c]))
+      continue;
+    returns_.push_back({r.at, r.from, std::min(wrapPi(r.angle), std::nextafter(kPi, 0.0)), r.cell});
+  }
 
   // By angle bin; per bin, the cells holding returns of that bin.
   std::vector<std::pair<std::uint32_t, int>> cell_bins;

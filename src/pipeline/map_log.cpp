@@ -198,6 +198,19 @@ bool lobeSettled(const SensorProfile& last, const SensorProfile& refit) {
          near(last.direct_sigma_deg, refit.direct_sigma_deg) && near(last.direct_floor, refit.direct_floor);
 }
 
+// The lobe a pass mapped with (its classifier's) agrees with a fit of the lobe against that pass's
+// floorplan: peak and sigma each within one standard error of the fit, and the floor too, or both
+// floors at or below the spurious rate p_hit_emp. The classifier explains a hit off the lobe by
+// the larger of the floor's rate and the spurious rate, so floors below it change a cell's
+// likelihood only in the lobe's flanks, by less than the spurious rate does.
+bool lobeAgrees(const glass::DirectOptions& used, const SensorProfile& fit) {
+  if (!fit.direct_sigma_deg.fitted) return true;
+  const auto near = [](double a, const Estimate& b) { return std::abs(a - b.value) <= b.se; };
+  const bool floors = near(used.direct_floor, fit.direct_floor) ||
+                      std::max(used.direct_floor, fit.direct_floor.value) <= used.p_hit_emp;
+  return near(used.direct_peak, fit.direct_peak) && near(used.direct_sigma_deg, fit.direct_sigma_deg) && floors;
+}
+
 // The fields applyProfile sets are equal.
 bool sameThresholds(const MapOptions& a, const MapOptions& b) {
   const glass::DirectOptions &x = a.mapping.direct, &y = b.mapping.direct;
@@ -328,6 +341,32 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
       o.fit_floorplan = first.fit_floorplan;
       // A profile that sets the very thresholds the last pass used would map the same labels.
       if (sameThresholds(o, last)) break;
+      // One whose lobe agrees with the first pass's within the fit's errors, and that sets its
+      // other thresholds, would map them within those errors: the first pass is the map, and the
+      // profile keeps its lobe (so that the profile maps the map again). A laser with the default
+      // lobe is mapped once.
+      if (round == 0 && lobeAgrees(last.mapping.direct, profile)) {
+        const glass::DirectOptions& used = last.mapping.direct;
+        SensorProfile kept = profile;
+        kept.direct_peak = {used.direct_peak};
+        kept.direct_sigma_deg = {used.direct_sigma_deg};
+        kept.direct_floor = {used.direct_floor};
+        MapOptions same_lobe = options;
+        applyProfile(same_lobe, kept);
+        same_lobe.fit_floorplan = first.fit_floorplan;
+        if (sameThresholds(same_lobe, last)) {
+          char what[320];
+          std::snprintf(what, sizeof what,
+                        "the fitted glass lobe (peak %.3f +- %.3f, sigma %.2f +- %.2f deg, floor %.4f +- %.4f) agrees "
+                        "with the first pass's (%.3g, %.3g deg, %.3g): the map and the profile keep that lobe",
+                        profile.direct_peak.value, profile.direct_peak.se, profile.direct_sigma_deg.value,
+                        profile.direct_sigma_deg.se, profile.direct_floor.value, profile.direct_floor.se,
+                        used.direct_peak, used.direct_sigma_deg, used.direct_floor);
+          fit.warnings.push_back(what);
+          profile = kept;
+          break;
+        }
+      }
       pass = mapOnce(log, o, progress, &walks);
       last = o;
       ++passes;
@@ -376,7 +415,7 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
   }
   const double last_pass = out.seconds.total;
   out.seconds.total = secondsSince(t0);
-  if (calibrating) out.seconds.calibration = out.seconds.total - last_pass;
+  if (calibrating) out.seconds.calibration = out.seconds.total - last_pass - out.seconds.scan_clutter;
   return out;
 }
 

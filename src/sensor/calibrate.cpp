@@ -443,10 +443,25 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
   std::vector<GlassBeam> glass;
   std::vector<double> shifts, turns;
   std::vector<detail::RangeResidual> in_scan;
-  for (const ScanRecords& r : records) {
+  {
+    std::size_t n_in_scan = 0, n_walls = 0, n_glass = 0;
+    for (const ScanRecords& r : records) {
+      n_in_scan += r.in_scan.size();
+      n_walls += r.walls.size();
+      n_glass += r.glass.size();
+    }
+    in_scan.reserve(n_in_scan);
+    walls.reserve(n_walls);
+    glass.reserve(n_glass);
+  }
+  // Each scan's records go as they are gathered (the log's records are held once, not twice).
+  for (ScanRecords& r : records) {
     in_scan.insert(in_scan.end(), r.in_scan.begin(), r.in_scan.end());
     walls.insert(walls.end(), r.walls.begin(), r.walls.end());
     glass.insert(glass.end(), r.glass.begin(), r.glass.end());
+    r.in_scan = {};
+    r.walls = {};
+    r.glass = {};
     if (r.aligned) {
       ++result.aligned_scans;
       shifts.push_back(r.shift_m);

@@ -174,6 +174,8 @@ TEST(Pipeline, CalibratesToTheLaserAndMapsNoWorseForIt) {
               without);
   EXPECT_GT(with, 0.8);
   EXPECT_GE(with, without - 0.01);
+  // The 4 deg lobe is not the first pass's 2 deg: a second pass maps with it.
+  EXPECT_GE(calibrated.passes, 2);
   // A given profile is used as is, in one pass.
   MapOptions given = with_lobe;
   given.sensor = p;
