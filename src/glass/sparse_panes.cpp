@@ -46,14 +46,12 @@ std::vector<std::size_t> gather(const WeakReturns& weak, const std::vector<bool>
                                 double tol_r) {
   std::vector<std::size_t> out;
   const std::vector<WeakReturn>& w = weak.returns();
-  const int centre = sparse::angleBinOf(line.angle);
   const int span = static_cast<int>(std::ceil(tol_a * kAngleBins / kPi)) + 1;
   const Vec2 n = line.normal();
-  for (int d = -span; d <= span; ++d)
-    for (std::size_t i : weak.bin(sparse::wrapBin(centre + d))) {
-      if (used[i] || std::abs(angleDiff(w[i].normal, line.angle)) > tol_a) continue;
-      if (std::abs(n.dot(w[i].at) - line.rho) <= tol_r) out.push_back(i);
-    }
+  weak.forNearLine(line.angle, line.rho, span, tol_r, [&](std::size_t i) {
+    if (used[i] || std::abs(angleDiff(w[i].normal, line.angle)) > tol_a) return;
+    if (std::abs(n.dot(w[i].at) - line.rho) <= tol_r) out.push_back(i);
+  });
   std::sort(out.begin(), out.end());
   return out;
 }

@@ -1,6 +1,7 @@
 #include "weak_returns.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -17,42 +18,86 @@
 namespace glassmap::glass::sparse {
 namespace {
 
-// Returns and passes per candidate cell, exact for the cells `targets` marks: a pass is a
-// returned beam that crosses the cell and ends at least `margin` beyond it. Only the beams whose
-// walk over the targets' tiles meets one are walked (the others neither end in nor cross one).
-void countPasses(const LaserLog& log, const grid::BeamOptions& beams, const CellEvidence& e, double margin,
-                 const detail::MarkedTiles& targets, std::vector<std::uint32_t>& hits,
-                 std::vector<std::uint32_t>& passes) {
-  const grid::GridGeometry& g = e.geometry;
-  const detail::CandidateIndex index(e);
-  struct Tally {
-    std::vector<std::uint32_t> hits, passes;
+// Coarse tiles of 8 x 8 cells, each with the number of undecided cells in it and its eight
+// neighbouring tiles: a segment whose walk over the tiles meets only zeros crosses no such cell.
+// Counts only fall, and a cell's fall only once it is decided, so a walk that reads a stale count
+// reads a larger one (and walks a beam it could have skipped).
+class UndecidedTiles {
+ public:
+  explicit UndecidedTiles(const grid::GridGeometry& g) {
+    coarse_.resolution = g.resolution * kTile;
+    coarse_.origin = g.origin;
+    coarse_.width = (g.width + kTile - 1) / kTile;
+    coarse_.height = (g.height + kTile - 1) / kTile;
+    count_ = std::vector<std::atomic<std::uint32_t>>(coarse_.cells());
+  }
+  void add(int x, int y) { update(x, y, +1); }
+  void remove(int x, int y) { update(x, y, -1); }
+  bool near(const Vec2& a, const Vec2& b) const {
+    bool found = false;
+    grid::traverse(coarse_, a, b, [&](int x, int y, double, bool) {
+      found = count_[coarse_.index(x, y)].load(std::memory_order_relaxed) != 0;
+      return !found;
+    });
+    return found;
+  }
+
+ private:
+  static constexpr int kTile = 8;
+  void update(int x, int y, int d) {
+    for (int ty = y / kTile - 1; ty <= y / kTile + 1; ++ty)
+      for (int tx = x / kTile - 1; tx <= x / kTile + 1; ++tx)
+        if (coarse_.contains(tx, ty))
+          count_[coarse_.index(tx, ty)].fetch_add(static_cast<std::uint32_t>(d), std::memory_order_relaxed);
+  }
+  grid::GridGeometry coarse_;
+  std::vector<std::atomic<std::uint32_t>> count_;
+};
+
+// Which of `cells` (linear cell indices, ascending) are passed by most beams: at least
+// o.min_through returned beams cross the cell and end at least o.through_margin beyond it, and the
+// returned beams whose walk ends there (hits, per cell) are at most o.max_hit_ratio of those and these. The test
+// holds for good once a cell's passes are enough, so a cell is decided then and the beams that
+// cross only decided cells' tiles are not walked; the answer is that of counting every beam.
+std::vector<std::uint8_t> passedCells(const LaserLog& log, const grid::BeamOptions& beams, const SparsePaneOptions& o,
+                                      const grid::GridGeometry& g, const std::vector<std::uint32_t>& cells,
+                                      const std::vector<std::uint32_t>& hits) {
+  const std::size_t n = cells.size();
+  const detail::CandidateIndex slot(g, cells);
+  const auto holds = [&](std::size_t k, std::uint32_t passes) {
+    return !(passes < static_cast<std::uint32_t>(o.min_through) ||
+             hits[k] > o.max_hit_ratio * static_cast<double>(hits[k] + passes));
   };
-  tbb::enumerable_thread_specific<Tally> tallies([&] {
-    return Tally{std::vector<std::uint32_t>(e.cells.size(), 0), std::vector<std::uint32_t>(e.cells.size(), 0)};
-  });
-  grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& t) {
+
+  std::vector<std::atomic<std::uint32_t>> passes(n);
+  std::vector<std::atomic<std::uint8_t>> decided(n);
+  UndecidedTiles undecided(g);
+  for (std::size_t k = 0; k < n; ++k) {
+    const grid::CellIndex c = g.cellOf(cells[k]);
+    if (holds(k, 0))
+      decided[k].store(1, std::memory_order_relaxed);
+    else
+      undecided.add(c.x, c.y);
+  }
+  tbb::enumerable_thread_specific<int> unused;
+  grid::forScansInParallel(log, {}, unused, [&](const LaserScan& scan, std::size_t, int&) {
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (!beam.hit || !targets.near(beam.from, beam.to)) return;
-      const double pass_until = beam.range - margin;
+      if (!beam.hit || !undecided.near(beam.from, beam.to)) return;
+      const double pass_until = beam.range - o.through_margin;
       grid::traverse(g, beam.from, beam.to, [&](int x, int y, double enter, bool last) {
-        const std::int64_t id = index.find(x, y);
-        if (id < 0) return;
-        const auto c = static_cast<std::size_t>(id);
-        if (last)
-          ++t.hits[c];
-        else if (enter * beam.range < pass_until)
-          ++t.passes[c];
+        if (last || !(enter * beam.range < pass_until)) return;
+        const std::int64_t found = slot.find(x, y);
+        if (found < 0) return;
+        const auto k = static_cast<std::size_t>(found);
+        if (decided[k].load(std::memory_order_relaxed)) return;
+        const std::uint32_t p = passes[k].fetch_add(1, std::memory_order_relaxed) + 1;
+        if (holds(k, p) && decided[k].exchange(1, std::memory_order_relaxed) == 0) undecided.remove(x, y);
       });
     });
   });
-  hits.assign(e.cells.size(), 0);
-  passes.assign(e.cells.size(), 0);
-  for (const Tally& t : tallies)
-    for (std::size_t i = 0; i < e.cells.size(); ++i) {
-      hits[i] += t.hits[i];
-      passes[i] += t.passes[i];
-    }
+  std::vector<std::uint8_t> out(n);
+  for (std::size_t k = 0; k < n; ++k) out[k] = decided[k].load(std::memory_order_relaxed);
+  return out;
 }
 
 }  // namespace
@@ -73,25 +118,33 @@ WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, co
     Vec2 at, from;
     double angle;
     std::uint32_t cell;
-    std::size_t c;
   };
+  // And every candidate's hits: the returned beams whose walk ends there (the last cell of the walk).
   const double least_clearance = std::max(o.wall_clearance, 3.0 * o.range_sigma);
   std::vector<std::vector<Candidate>> per_scan(log.scanCount());
-  tbb::enumerable_thread_specific<int> unused;
-  grid::forScansInParallel(log, {}, unused, [&](const LaserScan& scan, std::size_t index, int&) {
+  const detail::CandidateIndex candidate(e);
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> hit_parts(
+      [&] { return std::vector<std::uint32_t>(e.cells.size(), 0); });
+  grid::forScansInParallel(log, {}, hit_parts, [&](const LaserScan& scan, std::size_t index,
+                                                   std::vector<std::uint32_t>& hits) {
     // Beyond this range a beam is wider than max_footprint cells: a cell's returns and passes then
     // mix the surfaces the beam grazes.
     const double max_range = o.max_footprint * g.resolution / std::max(std::abs(scan.angular_step), 1e-6);
     std::vector<Candidate>& out = per_scan[index];
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (!beam.hit || beam.range < o.min_range || beam.range > max_range) return;
+      if (!beam.hit) return;
+      grid::CellIndex end;
+      if (grid::lastCell(g, beam.from, beam.to, end)) {
+        const std::int64_t id = candidate.find(end.x, end.y);
+        if (id >= 0) ++hits[static_cast<std::size_t>(id)];
+      }
+      if (beam.range < o.min_range || beam.range > max_range) return;
       const auto cell = static_cast<std::uint32_t>(g.index(g.cellAt(beam.to)));
       if (wall_distance[cell] * g.resolution <= least_clearance) return;
-      const std::int64_t id = e.candidate(cell);
-      if (id < 0) return;
+      if (e.candidate(cell) < 0) return;
       const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
       if (wall_distance[cell] * g.resolution <= std::max(o.wall_clearance, 3.0 * sigma)) return;
-      out.push_back({beam.to, beam.from, beam.angle, cell, static_cast<std::size_t>(id)});
+      out.push_back({beam.to, beam.from, beam.angle, cell});
     });
   });
   std::vector<Candidate> candidates;
@@ -99,19 +152,18 @@ WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, co
     candidates.insert(candidates.end(), c.begin(), c.end());
     c = {};
   }
-  // Their cells' passes: a pass over the beams that cross them.
-  detail::MarkedTiles targets(g, 8);
+  // Their cells' passes.
+  std::vector<std::uint32_t> cells;
+  for (const Candidate& r : candidates) cells.push_back(r.cell);
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  std::vector<std::uint32_t> hits(cells.size(), 0);
+  for (const std::vector<std::uint32_t>& part : hit_parts)
+    for (std::size_t k = 0; k < cells.size(); ++k) hits[k] += part[static_cast<std::size_t>(e.candidate(cells[k]))];
+  const std::vector<std::uint8_t> passed = passedCells(log, beams, o, g, cells, hits);
   for (const Candidate& r : candidates) {
-    const grid::CellIndex at = g.cellOf(r.cell);
-    targets.mark(at.x, at.y);
-  }
-  std::vector<std::uint32_t> hits, passes;
-  if (!candidates.empty()) countPasses(log, beams, e, o.through_margin, targets, hits, passes);
-  for (const Candidate& r : candidates) {
-    if (passes[r.c] < static_cast<std::uint32_t>(o.min_through) ||
-        hits[r.c] > o.max_hit_ratio * static_cast<double>(hits[r.c] + passes[r.c]))
-      continue;
-    returns_.push_back({r.at, r.from, std::min(wrapPi(r.angle), std::nextafter(kPi, 0.0)), r.cell});
+    const auto k = static_cast<std::size_t>(std::lower_bound(cells.begin(), cells.end(), r.cell) - cells.begin());
+    if (passed[k]) returns_.push_back({r.at, r.from, std::min(wrapPi(r.angle), std::nextafter(kPi, 0.0)), r.cell});
   }
 
   // By angle bin; per bin, the cells holding returns of that bin.
@@ -125,6 +177,20 @@ WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, co
   cell_bins.erase(std::unique(cell_bins.begin(), cell_bins.end()), cell_bins.end());
   for (const auto& cb : cell_bins) cells_per_bin_[static_cast<std::size_t>(cb.second)] += 1.0;
   observed_ = std::max(1.0, static_cast<double>(e.countObserved()));
+  // By offset, per bin.
+  centre_ = 0.5 * (g.origin + g.maxCorner());
+  by_offset_.resize(kAngleBins);
+  for (int b = 0; b < kAngleBins; ++b) {
+    const double theta = (b + 0.5) * kPi / kAngleBins;
+    const Vec2 nb(std::cos(theta), std::sin(theta));
+    std::vector<Keyed>& keyed = by_offset_[static_cast<std::size_t>(b)];
+    for (std::size_t i : bins_[static_cast<std::size_t>(b)]) {
+      const Vec2 p = returns_[i].at - centre_;
+      keyed.push_back({nb.dot(p), i});
+      radius_ = std::max(radius_, p.norm());
+    }
+    std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& c) { return a.key < c.key; });
+  }
   // By cell.
   by_cell_.resize(returns_.size());
   for (std::size_t i = 0; i < returns_.size(); ++i) by_cell_[i] = i;

@@ -56,6 +56,12 @@ class WeakReturns {
   const std::vector<WeakReturn>& returns() const { return returns_; }
   /// Returns of 1-degree normal bin b.
   const std::vector<std::size_t>& bin(int b) const { return bins_[static_cast<std::size_t>(b)]; }
+  /// Calls fn(i) for the returns of the bins within `span` of the bin of `angle` that may lie within
+  /// `tol` of the line n(angle) . p = rho: every such return, and some others (the caller tests).
+  /// Each bin's returns are sorted by their offset along the bin's normal, which differs from the
+  /// line's by at most |n - n_bin| times their largest distance from the centre.
+  template <class Fn>
+  void forNearLine(double angle, double rho, int span, double tol, Fn&& fn) const;
   /// True when at least `share` of the returns of `cell` came within `tol` [rad] of `normal`.
   bool specific(std::uint32_t cell, double normal, double tol, double share) const;
   /// True when some return of `cell` came within `tol` [rad] of `normal`.
@@ -68,9 +74,41 @@ class WeakReturns {
   void forCell(std::uint32_t cell, Fn&& fn) const;
   std::vector<WeakReturn> returns_;
   std::vector<std::vector<std::size_t>> bins_;
+  struct Keyed {
+    double key;     // offset from centre_ along the bin's normal [m]
+    std::size_t i;  // the return
+  };
+  std::vector<std::vector<Keyed>> by_offset_;  // per bin, by key
+  Vec2 centre_ = Vec2::Zero();
+  double radius_ = 0.0;  // largest distance of a return from centre_ [m]
   std::vector<std::size_t> by_cell_;
   std::vector<double> cells_per_bin_;
   double observed_ = 1.0;
 };
+
+template <class Fn>
+void WeakReturns::forNearLine(double angle, double rho, int span, double tol, Fn&& fn) const {
+  const Vec2 n(std::cos(angle), std::sin(angle));
+  const double rho_c = rho - n.dot(centre_);
+  const int centre = angleBinOf(angle);
+  for (int d = -span; d <= span; ++d) {
+    const int b = wrapBin(centre + d);
+    const std::vector<Keyed>& keyed = by_offset_[static_cast<std::size_t>(b)];
+    if (keyed.empty()) continue;
+    const double theta = (b + 0.5) * kPi / kAngleBins;
+    const Vec2 nb(std::cos(theta), std::sin(theta));
+    // The bin's normal, or its opposite, whichever is nearer the line's.
+    const double s = n.dot(nb) >= 0.0 ? 1.0 : -1.0;
+    const double slack = (n - s * nb).norm() * radius_ + 1e-6 * (1.0 + radius_ + std::abs(rho_c));
+    double lo = rho_c - tol - slack, hi = rho_c + tol + slack;
+    if (s < 0.0) {
+      const double flipped_lo = -hi;
+      hi = -lo;
+      lo = flipped_lo;
+    }
+    auto it = std::lower_bound(keyed.begin(), keyed.end(), lo, [](const Keyed& k, double v) { return k.key < v; });
+    for (; it != keyed.end() && it->key <= hi; ++it) fn(it->i);
+  }
+}
 
 }  // namespace glassmap::glass::sparse

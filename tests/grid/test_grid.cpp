@@ -82,6 +82,32 @@ TEST(Traversal, EqualsBruteForceOnRandomRays) {
   }
 }
 
+// lastCell names the cell the walk ends in without walking, on random segments and on segments
+// whose end lies on cell borders and grid corners (where rounding would decide it).
+TEST(Traversal, LastCellIsTheWalksLastCell) {
+  const GridGeometry g = smallGrid();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> ux(-1.5, 3.5), uy(-2.5, 1.5);
+  std::uniform_int_distribution<int> border(0, 30);
+  int compared = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    Vec2 a(ux(rng), uy(rng)), b(ux(rng), uy(rng));
+    if (trial % 2) b = g.origin + g.resolution * Vec2(border(rng), border(rng));  // on a border or corner
+    CellIndex last{-1, -1};
+    bool seen = false;
+    traverse(g, a, b, [&](int x, int y, double, bool is_last) {
+      if (is_last) last = {x, y}, seen = true;
+    });
+    CellIndex c;
+    ASSERT_EQ(lastCell(g, a, b, c), seen) << "trial " << trial;
+    if (seen) {
+      EXPECT_EQ(c, last) << "trial " << trial;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 1000);
+}
+
 TEST(Traversal, AxisAlignedAndSingleCell) {
   const GridGeometry g = smallGrid();
   const auto row = touchedCells(g, Vec2(-0.95, -1.95), Vec2(0.05, -1.95));

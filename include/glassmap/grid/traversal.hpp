@@ -71,6 +71,20 @@ std::size_t traverse(const GridGeometry& g, const Vec2& a, const Vec2& b, Visit&
   return visited;
 }
 
+/// The cell traverse(g, a, b, visit) visits last (the one holding b when b lies in the grid), by
+/// the very arithmetic of the walk, without walking; false when the segment misses the grid.
+inline bool lastCell(const GridGeometry& g, const Vec2& a, const Vec2& b, CellIndex& cell) {
+  double t0 = 0.0, t1 = 1.0;
+  if (!clipToGrid(g, a, b, t0, t1)) return false;
+  const double inv_res = 1.0 / g.resolution;
+  const double ax = (a.x() - g.origin.x()) * inv_res, ay = (a.y() - g.origin.y()) * inv_res;
+  const double dx = (b.x() - a.x()) * inv_res, dy = (b.y() - a.y()) * inv_res;
+  const double ex = ax + t1 * dx, ey = ay + t1 * dy;
+  cell.x = std::clamp(static_cast<int>(std::floor(ex)), 0, g.width - 1);
+  cell.y = std::clamp(static_cast<int>(std::floor(ey)), 0, g.height - 1);
+  return true;
+}
+
 /// The cells of segment a->b in visiting order (convenience for tests and tools).
 std::vector<CellIndex> touchedCells(const GridGeometry& g, const Vec2& a, const Vec2& b);
 
