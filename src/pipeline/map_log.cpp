@@ -120,8 +120,10 @@ VectorMap surfacesOf(const vector::VectorizeResult& floorplan) {
 }
 
 // Fits the profile against a pass's floorplan; false (the reason in fit.warnings) when it has no wall.
+// With noise_in_prior, the prior's range noise is the log's in-scan estimate (inScanNoise), which
+// the fit would make again from the same scans: it is taken as it is.
 bool fitProfile(const LaserLog& log, const VectorMap& plan, const MapOptions& options, const SensorProfile& prior,
-                sensor::CalibrationResult& fit) {
+                sensor::CalibrationResult& fit, bool noise_in_prior = false) {
   if (std::none_of(plan.segments.begin(), plan.segments.end(),
                    [](const MapSegment& s) { return s.material == Material::Wall; })) {
     fit = {};
@@ -131,15 +133,16 @@ bool fitProfile(const LaserLog& log, const VectorMap& plan, const MapOptions& op
   }
   sensor::CalibrationOptions c = options.calibration;
   c.prior = prior;
-  c.sigma_source = sensor::SigmaSource::Local;  // the plan was mapped from this very log
+  // The plan was mapped from this very log.
+  c.sigma_source = noise_in_prior ? sensor::SigmaSource::Prior : sensor::SigmaSource::Local;
   fit = sensor::calibrate(log, plan, c);
   return true;
 }
 
 // The first pass left too few beams on glass to fit the lobe: a pass with the broad search lobe
 // (and the fitted range noise), and the fit against its floorplan when that one has the beams.
-void searchLobe(const LaserLog& log, const MapOptions& options, const SensorProfile& prior, const Progress& progress,
-                glass::BeamPasses& walks, sensor::CalibrationResult& fit) {
+void searchLobe(const LaserLog& log, const MapOptions& options, const SensorProfile& prior, bool noise_in_prior,
+                const Progress& progress, glass::BeamPasses& walks, sensor::CalibrationResult& fit) {
   SensorProfile broad = fit.profile;
   broad.direct_peak = {options.search_peak};
   broad.direct_sigma_deg = {options.search_sigma_deg};
@@ -152,7 +155,8 @@ void searchLobe(const LaserLog& log, const MapOptions& options, const SensorProf
   std::snprintf(lobe, sizeof lobe, "a pass with a broad lobe (peak %.2g, sigma %.3g deg, floor %.2g)",
                 options.search_peak, options.search_sigma_deg, options.search_floor);
   sensor::CalibrationResult refit;
-  if (fitProfile(log, surfacesOf(look.floorplan), options, prior, refit) && refit.profile.direct_sigma_deg.fitted) {
+  if (fitProfile(log, surfacesOf(look.floorplan), options, prior, refit, noise_in_prior) &&
+      refit.profile.direct_sigma_deg.fitted) {
     // What the first pass's fit said, then the search's.
     std::vector<std::string> said;
     for (const std::string& w : fit.warnings) said.push_back("first pass: " + w);
@@ -309,7 +313,8 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
     // whose lobe keeps the prior's is mapped once.
     SensorProfile profile;
     MapOptions first = options;
-    if (sensor::inScanNoise(log, options.calibration, profile)) applyProfile(first, profile);
+    const bool noise = sensor::inScanNoise(log, options.calibration, profile);
+    if (noise) applyProfile(first, profile);
     first.fit_floorplan = true;
     // Later passes differ in the lobe only (the noise came first): they reuse this one's walks
     // over the beams when its thresholds are theirs.
@@ -321,12 +326,13 @@ MapResult mapLog(const LaserLog& input, const MapOptions& options, const Progres
     for (int round = 0; round < options.calibration_rounds; ++round) {
       if (progress) progress("calibrate", 0.0);
       sensor::CalibrationResult next;
-      if (!fitProfile(log, surfacesOf(pass.floorplan), options, profile, next)) {
+      // The noise of `profile` is the in-scan estimate in every round (the fits keep it).
+      if (!fitProfile(log, surfacesOf(pass.floorplan), options, profile, next, noise)) {
         if (round == 0) fit = std::move(next);
         break;
       }
       if (round == 0 && options.lobe_search && options.profile_lobe && !next.profile.direct_sigma_deg.fitted)
-        searchLobe(log, options, profile, progress, walks, next);
+        searchLobe(log, options, profile, noise, progress, walks, next);
       keepPlausibleLobe(options, profile, next);
       if (progress) progress("calibrate", 1.0);
       // The lobe fitted against a map made with the last fit's within its standard errors of it:

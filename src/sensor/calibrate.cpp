@@ -1,6 +1,8 @@
 #include "glassmap/sensor/calibrate.hpp"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <array>
@@ -137,7 +139,7 @@ GlassBeam glassModes(const RayCaster& caster, const Vec2& origin, const Vec2& di
 
 ScanRecords collect(const RayCaster& caster, const LaserScan& scan, std::uint32_t index, const CalibrationOptions& o) {
   ScanRecords rec;
-  detail::inScanResiduals(scan, rec.in_scan);
+  if (o.sigma_source != SigmaSource::Prior) detail::inScanResiduals(scan, rec.in_scan);
   Pose2 pose = scan.laser_pose;
   if (o.align_scans) {
     rec.aligned = alignScan(caster, scan, o, pose);
@@ -187,32 +189,50 @@ void fitBeamModel(const std::vector<WallBeam>& beams, const CalibrationOptions& 
   for (double& x : w) x = std::max(x, 0.01);
   double sigma = std::max(p.range_sigma_m.value, 0.005), lambda = std::max(p.lambda_short.value, 0.01);
   double n_eff[4] = {0, 0, 0, 0}, n_sigma = 0;
-  for (int it = 0; it < o.em_iterations; ++it) {
+  // The E step's sums in a fixed tree of fixed blocks: the same sums on any number of threads.
+  struct Sums {
     double sum[4] = {0, 0, 0, 0};
     double sq = 0, sq_w = 0, short_z = 0;
+  };
+  for (int it = 0; it < o.em_iterations; ++it) {
     const double norm = 1.0 / (std::sqrt(2 * kPi) * sigma);
-    for (const WallBeam& b : beams) {
-      double q[4];
-      if (b.z >= b.z_max) {
-        q[0] = q[1] = q[3] = 0;
-        q[2] = w[2];
-      } else {
-        const double u = (b.z - b.e) / sigma;
-        q[0] = w[0] * norm * std::exp(-0.5 * u * u);
-        q[1] = b.z < b.e ? w[1] * lambda * std::exp(-lambda * b.z) / (-std::expm1(-lambda * b.e)) : 0.0;
-        q[2] = 0;
-        q[3] = w[3] / b.z_max;
-      }
-      const double total = q[0] + q[1] + q[2] + q[3];
-      if (!(total > 0)) continue;
-      for (int k = 0; k < 4; ++k) sum[k] += q[k] / total;
-      const double r_hit = q[0] / total;
-      if (b.fit_sigma) {
-        sq += r_hit * (b.z - b.e) * (b.z - b.e);
-        sq_w += r_hit;
-      }
-      short_z += q[1] / total * b.z;
-    }
+    const Sums s = tbb::parallel_deterministic_reduce(
+        tbb::blocked_range<std::size_t>(0, beams.size(), 16384), Sums{},
+        [&](const tbb::blocked_range<std::size_t>& r, Sums acc) {
+          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const WallBeam& b = beams[i];
+            double q[4];
+            if (b.z >= b.z_max) {
+              q[0] = q[1] = q[3] = 0;
+              q[2] = w[2];
+            } else {
+              const double u = (b.z - b.e) / sigma;
+              q[0] = w[0] * norm * std::exp(-0.5 * u * u);
+              q[1] = b.z < b.e ? w[1] * lambda * std::exp(-lambda * b.z) / (-std::expm1(-lambda * b.e)) : 0.0;
+              q[2] = 0;
+              q[3] = w[3] / b.z_max;
+            }
+            const double total = q[0] + q[1] + q[2] + q[3];
+            if (!(total > 0)) continue;
+            for (int k = 0; k < 4; ++k) acc.sum[k] += q[k] / total;
+            const double r_hit = q[0] / total;
+            if (b.fit_sigma) {
+              acc.sq += r_hit * (b.z - b.e) * (b.z - b.e);
+              acc.sq_w += r_hit;
+            }
+            acc.short_z += q[1] / total * b.z;
+          }
+          return acc;
+        },
+        [](Sums a, const Sums& b) {
+          for (int k = 0; k < 4; ++k) a.sum[k] += b.sum[k];
+          a.sq += b.sq;
+          a.sq_w += b.sq_w;
+          a.short_z += b.short_z;
+          return a;
+        });
+    const double* sum = s.sum;
+    const double sq = s.sq, sq_w = s.sq_w, short_z = s.short_z;
     const double n = sum[0] + sum[1] + sum[2] + sum[3];
     double moved = 0;
     for (int k = 0; k < 4; ++k) {
@@ -504,8 +524,14 @@ CalibrationResult calibrate(const LaserLog& log, const VectorMap& map, const Cal
       p.range_sigma_rel = {f.rel, f.rel_se, true};
     }
   }
-  const detail::RangeNoiseFit local = inScanFit(in_scan);
-  if (local.ok) {
+  const detail::RangeNoiseFit local =
+      o.sigma_source == SigmaSource::Prior ? detail::RangeNoiseFit{} : inScanFit(in_scan);
+  if (o.sigma_source == SigmaSource::Prior) {
+    result.range_sigma_local_m = rangeSigmaAt(o.prior, p.typical_range_m);
+    p.range_sigma_m = o.prior.range_sigma_m;
+    p.range_sigma_rel = o.prior.range_sigma_rel;
+    p.typical_range_m = o.prior.typical_range_m;
+  } else if (local.ok) {
     result.range_sigma_local_m =
         rangeSigmaAt(SensorProfile{.range_sigma_m = {local.sigma0}, .range_sigma_rel = {local.rel}}, p.typical_range_m);
     if (o.sigma_source == SigmaSource::Local) {

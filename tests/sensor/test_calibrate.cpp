@@ -226,6 +226,22 @@ TEST(Calibrate, InScanNoiseBeforeAnyPlanIsWhatTheLocalFitGives) {
   EXPECT_EQ(before.range_sigma_rel.value, after.range_sigma_rel.value);
   EXPECT_EQ(before.typical_range_m, after.typical_range_m);
   EXPECT_GT(before.typical_range_m, 0.5);
+  // The Prior source takes that estimate as it is instead of making it again: the same profile,
+  // the same in-scan figure.
+  sensor::CalibrationOptions again = local;
+  again.prior = before;  // as the map pipeline fits: from the profile its first pass used
+  const sensor::CalibrationResult made_again = sensor::calibrate(log, scene.map, again);
+  sensor::CalibrationOptions given;
+  given.sigma_source = sensor::SigmaSource::Prior;
+  given.prior = before;
+  const sensor::CalibrationResult taken = sensor::calibrate(log, scene.map, given);
+  EXPECT_EQ(taken.profile.range_sigma_m.value, made_again.profile.range_sigma_m.value);
+  EXPECT_EQ(taken.profile.range_sigma_m.se, made_again.profile.range_sigma_m.se);
+  EXPECT_EQ(taken.profile.range_sigma_rel.value, made_again.profile.range_sigma_rel.value);
+  EXPECT_EQ(taken.profile.typical_range_m, made_again.profile.typical_range_m);
+  EXPECT_EQ(taken.range_sigma_local_m, made_again.range_sigma_local_m);
+  EXPECT_EQ(taken.profile.direct_sigma_deg.value, made_again.profile.direct_sigma_deg.value);
+  EXPECT_EQ(taken.profile.w_hit.value, made_again.profile.w_hit.value);
   // Too few readings: nothing estimated, the profile untouched.
   SensorProfile none;
   EXPECT_FALSE(sensor::inScanNoise(LaserLog{}, {}, none));

@@ -30,8 +30,10 @@ namespace glassmap::sensor {
 
 /// Where sigma_hit comes from: the residuals against the floorplan's walls (EM), or the spread of
 /// neighbouring readings within each scan (no map involved: neither the floorplan's drawing error
-/// nor pose error enters it; the choice when the floorplan was mapped from the same log).
-enum class SigmaSource { Walls, Local };
+/// nor pose error enters it; the choice when the floorplan was mapped from the same log), or the
+/// prior's range noise and typical range as they are: the Local estimate made before from this
+/// very log (inScanNoise, the same scans and fit), not made again.
+enum class SigmaSource { Walls, Local, Prior };
 
 struct CalibrationOptions {
   SigmaSource sigma_source = SigmaSource::Walls;
