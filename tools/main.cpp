@@ -1,6 +1,9 @@
 // glassmap: laser logs to glass-aware maps, vector floorplans and localization.
 #include <iostream>
 #include <new>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "cli_common.hpp"
 #include "cli_config.hpp"
@@ -11,6 +14,14 @@ int main(int argc, char** argv) {
   // SIGINT/SIGTERM remove the temporaries of writes in progress, so an interrupted run leaves
   // either the old output or the new one, never a partial file.
   glassmap::installSignalCleanup();
+#if defined(__GLIBC__)
+  // Buffers of 4 MiB and more (grids, per-thread counts, a log's records) are mapped on their own
+  // and go back to the system when freed. glibc raises this threshold to the largest block freed
+  // so far (up to 32 MiB), after which such buffers stay in the heap when freed and every later
+  // stage adds to the peak: mapping the 100 m floor peaked at 305-336 MB, with this 275 MB, in the
+  // same time (tools/bench/speed_table.py --only floor100).
+  mallopt(M_MMAP_THRESHOLD, 4 << 20);
+#endif
   CLI::App app{
       "glassmap: glass-aware laser mapping, vector floorplans and localization.\n"
       "Run 'glassmap <verb> --help' for the options of a verb."};
