@@ -178,11 +178,41 @@ std::vector<uint16_t> argminLabels(const LabelEnergy& e) {
   return labels;
 }
 
-std::size_t restrictCandidates(LabelEnergy& e, int64_t margin) {
-  validate(e);
-  if (e.num_labels > 64) throw Error("candidate sets need at most 64 labels", {}, 0, "candidates");
+namespace {
+
+std::size_t restrict(LabelEnergy& e, int64_t margin, const std::vector<int64_t>* gaps) {
   const int n = e.num_labels;
-  // gap[l][m] = 8 * max_n (Psi(l, n) - Psi(m, n)): the most the neighbours can favour l over m.
+  e.candidates.assign(e.cells(), 0);
+  std::size_t kept = 0;
+  const uint64_t all = n == 64 ? ~uint64_t{0} : (uint64_t{1} << n) - 1;
+  for (std::size_t c = 0; c < e.cells(); ++c) {
+    const int32_t* row = &e.unary[c * n];
+    const auto [lo, hi] = std::minmax_element(row, row + n);
+    uint64_t set = 0;
+    if (*lo == *hi) {
+      set = all;  // no excess anywhere: every label is kept (gaps and margins are >= 0)
+    } else {
+      const int best = static_cast<int>(lo - row);
+      const int64_t* gap = gaps ? &(*gaps)[static_cast<std::size_t>(best) * n] : nullptr;
+      for (int l = 0; l < n; ++l) {
+        const int64_t excess = int64_t{row[l]} - row[best];
+        // Lossless: l is dominated by best when its unary excess exceeds anything the neighbours
+        // can give back by switching from best to l; then best strictly improves any labelling.
+        const bool keep = gap ? excess <= gap[l] : excess <= margin;
+        if (keep || l == best) set |= uint64_t{1} << l;
+      }
+    }
+    e.candidates[c] = set;
+    kept += static_cast<std::size_t>(std::popcount(set));
+  }
+  return kept;
+}
+
+}  // namespace
+
+std::vector<int64_t> candidateGaps(const LabelEnergy& e) {
+  validate(e);
+  const int n = e.num_labels;
   std::vector<int64_t> gap(static_cast<std::size_t>(n) * n, 0);
   for (int l = 0; l < n; ++l)
     for (int m = 0; m < n; ++m) {
@@ -190,25 +220,25 @@ std::size_t restrictCandidates(LabelEnergy& e, int64_t margin) {
       for (int k = 0; k < n; ++k)
         for (int cls = 0; cls < (e.pairwise_dir.empty() ? 1 : 4); ++cls)
           g = std::max<int64_t>(g, int64_t{e.psi(m, k, cls)} - e.psi(l, k, cls));
-      gap[l * n + m] = 8 * std::max<int64_t>(g, 0);  // cells have at most 8 neighbours
+      gap[static_cast<std::size_t>(m) * n + l] = 8 * std::max<int64_t>(g, 0);  // cells have at most 8 neighbours
     }
-  e.candidates.assign(e.cells(), 0);
-  std::size_t kept = 0;
-  for (std::size_t c = 0; c < e.cells(); ++c) {
-    const int32_t* row = &e.unary[c * n];
-    const int best = static_cast<int>(std::min_element(row, row + n) - row);
-    uint64_t set = 0;
-    for (int l = 0; l < n; ++l) {
-      const int64_t excess = int64_t{row[l]} - row[best];
-      // Lossless: l is dominated by best when its unary excess exceeds anything the neighbours
-      // can give back by switching from best to l; then best strictly improves any labelling.
-      const bool keep = margin < 0 ? excess <= gap[l * n + best] : excess <= margin;
-      if (keep || l == best) set |= uint64_t{1} << l;
-    }
-    e.candidates[c] = set;
-    kept += static_cast<std::size_t>(std::popcount(set));
-  }
-  return kept;
+  return gap;
+}
+
+std::size_t restrictCandidates(LabelEnergy& e, int64_t margin) {
+  validate(e);
+  if (e.num_labels > 64) throw Error("candidate sets need at most 64 labels", {}, 0, "candidates");
+  if (margin >= 0) return restrict(e, margin, nullptr);
+  const std::vector<int64_t> gaps = candidateGaps(e);
+  return restrict(e, margin, &gaps);
+}
+
+std::size_t restrictCandidates(LabelEnergy& e, const std::vector<int64_t>& gaps) {
+  validate(e);
+  if (e.num_labels > 64) throw Error("candidate sets need at most 64 labels", {}, 0, "candidates");
+  if (gaps.size() != static_cast<std::size_t>(e.num_labels) * e.num_labels)
+    throw Error("a gap table of another label count", {}, 0, "gaps");
+  return restrict(e, -1, &gaps);
 }
 
 void writeInstance(const std::string& path, const LabelEnergy& e) {

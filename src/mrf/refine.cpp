@@ -82,6 +82,7 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
   };
   LabelEnergy e;
   std::vector<std::uint16_t> labels;
+  std::vector<std::int64_t> gaps;  // of the tiles' Psi, which they share: made once
   for (int sweep = 0; sweep < options.sweeps; ++sweep) {
     std::int64_t before_sum = 0, after_sum = 0;
     for (int ty = 0; ty < tiles_y; ++ty) {
@@ -124,7 +125,8 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
           const std::uint8_t own = ev.label[cell];
           labels[c] = own == kUnknown ? static_cast<std::uint16_t>(kEmpty) : own;
         }
-        restrictCandidates(e);
+        if (gaps.empty()) gaps = candidateGaps(e);
+        restrictCandidates(e, gaps);
         const MrfResult r = solver->solve(e, labels);
         before_sum += r.initial_energy;
         after_sum += r.energy;

@@ -259,7 +259,12 @@ TEST(MrfEnergy, LosslessCandidatesKeepTheGlobalMinimum) {
     for (auto& v : e.unary) v *= 4;  // strong unaries so that pruning removes something
     std::vector<uint16_t> best;
     bruteForce(e, &best);
+    // The table made once for instances of one Psi gives the very same candidates.
+    LabelEnergy shared = e;
+    const std::size_t kept_shared = restrictCandidates(shared, candidateGaps(e));
     const std::size_t kept = restrictCandidates(e);
+    EXPECT_EQ(kept_shared, kept);
+    EXPECT_EQ(shared.candidates, e.candidates);
     std::size_t counted = 0;
     for (std::size_t c = 0; c < e.cells(); ++c) {
       EXPECT_TRUE(e.isCandidate(c, best[c])) << c;
@@ -271,6 +276,8 @@ TEST(MrfEnergy, LosslessCandidatesKeepTheGlobalMinimum) {
   }
   // The strong unaries let pruning drop over a quarter of all (cell, label) pairs (387 of 540 kept).
   EXPECT_LT(kept_total, labels_total * 3 / 4);
+  LabelEnergy other = randomInstance(3, 3, 4, TestPsi::Random, 1);
+  EXPECT_THROW(restrictCandidates(other, candidateGaps(randomInstance(3, 3, 5, TestPsi::Random, 1))), Error);
 }
 
 TEST(MrfEnergy, InstanceFileRoundTripAndErrors) {

@@ -124,6 +124,14 @@ std::vector<uint16_t> argminLabels(const LabelEnergy& e);
 /// Returns the number of (cell, label) candidate pairs kept.
 std::size_t restrictCandidates(LabelEnergy& e, int64_t margin = -1);
 
+/// The lossless pruning's table for e's Psi: gaps[m * L + l] = 8 max_n (Psi(m, n) - Psi(l, n)), the
+/// most the neighbours can favour l over m (O(L^3) of Psi; a function of Psi alone).
+std::vector<int64_t> candidateGaps(const LabelEnergy& e);
+
+/// restrictCandidates(e) with the table of candidateGaps for e's Psi, made once for instances
+/// that share their Psi (the MRF's tiles): the same candidates.
+std::size_t restrictCandidates(LabelEnergy& e, const std::vector<int64_t>& gaps);
+
 /// Writes the binary instance: uint32 width, height, labels; int32 unary[cells x labels];
 /// int32 pairwise[labels x labels]; little-endian, 8-neighbourhood, unit edge weights.
 /// Atomic (temporary name, then rename). Mask and candidate sets are not stored.

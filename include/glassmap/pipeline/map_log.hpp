@@ -63,7 +63,11 @@ struct MapOptions {
   /// maps the log with the thresholds it sets, the rest of the profile is fitted against that
   /// pass's floorplan (sensor/calibrate.hpp), and the map is made again with the thresholds the
   /// profile sets (applyProfile), unless they are the ones the first pass used (then it is the map:
-  /// a log whose glass lobe keeps the prior's is mapped once). Set: used as is, one pass.
+  /// a log whose glass lobe keeps the prior's is mapped once), or the fitted lobe agrees with the
+  /// first pass's (peak and sigma within one standard error, floors equal within one or both at
+  /// or below the spurious rate p_hit_emp) and the other thresholds are the first pass's: then the
+  /// first pass is the map too, and `MapResult::profile` keeps the lobe it was made with (the fit
+  /// is in `MapResult::calibration`, and says so among its warnings). Set: used as is, one pass.
   std::optional<SensorProfile> sensor;
   bool calibrate = true;
   /// Fit, re-map: at most this many times. A round whose lobe is within one standard error of
