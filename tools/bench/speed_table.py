@@ -25,7 +25,6 @@ import csv
 import json
 import os
 import platform
-import resource
 import shutil
 import subprocess
 import sys
@@ -76,13 +75,16 @@ def timed(cmd, cpus=None):
     """Runs cmd (pinned to `cpus` CPUs with taskset); returns (wall s, CPU s, peak RSS MB) of the child."""
     if cpus is not None and shutil.which("taskset"):
         cmd = ["taskset", "-c", ",".join(str(c) for c in range(cpus))] + list(cmd)
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    # The child's own resource use (os.wait4): RUSAGE_CHILDREN's peak is the largest of every child
+    # so far, which gave each row the peak of the biggest job run before it.
     t0 = time.perf_counter()
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    _, status, usage = os.wait4(proc.pid, 0)
     wall = time.perf_counter() - t0
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return wall, cpu, after.ru_maxrss / 1024.0
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    if proc.returncode != 0:
+        raise subprocess.CalledProcessError(proc.returncode, cmd)
+    return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024.0
 
 
 def one(b, prefix):
