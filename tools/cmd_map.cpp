@@ -327,7 +327,9 @@ const cli::Registrar reg(40, [](CLI::App& app) {
                 "by default since the first pass has the range noise and sees faint panes; docs/calibration.md)");
   cmd->add_option("--calibration-rounds", args->options.calibration_rounds,
                   "fit and re-map at most this many times: a fit within one standard error of the last\n"
-                  "(lobe peak, sigma, floor) ends it, its map kept")
+                  "(lobe peak, sigma, floor) ends it, its map kept; so does a first fit within one standard\n"
+                  "error of the first pass's lobe (floors at or below the spurious rate count as equal): the\n"
+                  "first pass is the map and the profile keeps its lobe (said among the calibration warnings)")
       ->capture_default_str()
       ->check(CLI::Range(1, 5));
   cli::addGeorefOptions(*cmd, args->georef);
