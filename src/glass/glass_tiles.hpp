@@ -15,13 +15,19 @@ namespace glassmap::glass::detail {
 /// Coarse tiles of `tile` x `tile` cells that hold a marked cell, grown by one tile (the coarse walk
 /// of a segment and its fine walk may round a corner differently): a segment whose walk over the
 /// tiles meets none of them crosses no marked cell.
+/// The grid of tiles of `tile` x `tile` cells over g.
+inline grid::GridGeometry coarseGrid(const grid::GridGeometry& g, int tile) {
+  grid::GridGeometry c;
+  c.resolution = g.resolution * tile;
+  c.origin = g.origin;
+  c.width = (g.width + tile - 1) / tile;
+  c.height = (g.height + tile - 1) / tile;
+  return c;
+}
+
 class MarkedTiles {
  public:
-  MarkedTiles(const grid::GridGeometry& g, int tile) : tile_(tile) {
-    coarse_.resolution = g.resolution * tile;
-    coarse_.origin = g.origin;
-    coarse_.width = (g.width + tile - 1) / tile;
-    coarse_.height = (g.height + tile - 1) / tile;
+  MarkedTiles(const grid::GridGeometry& g, int tile) : tile_(tile), coarse_(coarseGrid(g, tile)) {
     marked_.assign(coarse_.cells(), 0);
   }
   /// Marks fine cell (x, y) inside the grid.

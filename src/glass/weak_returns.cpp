@@ -24,13 +24,8 @@ namespace {
 // reads a larger one (and walks a beam it could have skipped).
 class UndecidedTiles {
  public:
-  explicit UndecidedTiles(const grid::GridGeometry& g) {
-    coarse_.resolution = g.resolution * kTile;
-    coarse_.origin = g.origin;
-    coarse_.width = (g.width + kTile - 1) / kTile;
-    coarse_.height = (g.height + kTile - 1) / kTile;
-    count_ = std::vector<std::atomic<std::uint32_t>>(coarse_.cells());
-  }
+  explicit UndecidedTiles(const grid::GridGeometry& g)
+      : coarse_(detail::coarseGrid(g, kTile)), count_(coarse_.cells()) {}
   void add(int x, int y) { update(x, y, +1); }
   void remove(int x, int y) { update(x, y, -1); }
   bool near(const Vec2& a, const Vec2& b) const {
