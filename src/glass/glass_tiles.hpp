@@ -3,6 +3,7 @@
 /// over the tiles meets none of them crosses no marked cell, and most beams of a floor never do;
 /// and an index of candidate cells by tile.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -25,6 +26,27 @@ inline grid::GridGeometry coarseGrid(const grid::GridGeometry& g, int tile) {
   return c;
 }
 
+/// Walks segment a -> b over the tiles of `coarse` until marked(x, y); true when one is met. Tiles
+/// are marked around their marked cells' own (grown by a tile), so a fine walk started one fine cell
+/// (of `fine_resolution`) before that tile's entry meets every marked cell on the segment and every
+/// cell within a tile of one: `from` (when given) is that start, as traverse's t_from.
+template <class Marked>
+bool firstTile(const grid::GridGeometry& coarse, double fine_resolution, const Vec2& a, const Vec2& b,
+               Marked&& marked, double* from) {
+  double entry = 0.0;
+  bool found = false;
+  grid::traverse(coarse, a, b, [&](int x, int y, double t, bool) {
+    found = marked(x, y);
+    entry = t;
+    return !found;
+  });
+  if (found && from) {
+    const double length = (b - a).norm();
+    *from = length > 0.0 ? std::max(0.0, entry - fine_resolution / length) : 0.0;
+  }
+  return found;
+}
+
 class MarkedTiles {
  public:
   MarkedTiles(const grid::GridGeometry& g, int tile) : tile_(tile), coarse_(coarseGrid(g, tile)) {
@@ -36,14 +58,13 @@ class MarkedTiles {
       for (int tx = x / tile_ - 1; tx <= x / tile_ + 1; ++tx)
         if (coarse_.contains(tx, ty)) marked_[coarse_.index(tx, ty)] = 1;
   }
-  /// True when segment a -> b passes a tile that holds a marked cell (or its neighbour).
-  bool near(const Vec2& a, const Vec2& b) const {
-    bool found = false;
-    grid::traverse(coarse_, a, b, [&](int x, int y, double, bool) {
-      found = marked_[coarse_.index(x, y)] != 0;
-      return !found;
-    });
-    return found;
+  /// True when segment a -> b passes a tile that holds a marked cell (or its neighbour); then
+  /// `from` (when given) is where a fine walk of the segment may start and meet every marked cell
+  /// on it (firstTileStart).
+  bool near(const Vec2& a, const Vec2& b, double* from = nullptr) const {
+    return firstTile(
+        coarse_, coarse_.resolution / tile_, a, b, [&](int x, int y) { return marked_[coarse_.index(x, y)] != 0; },
+        from);
   }
 
  private:
@@ -62,8 +83,9 @@ class GlassTiles {
       for (int x = 0; x < g.width; ++x)
         if (isGlass(e.label[g.index(x, y)])) tiles_.mark(x, y);
   }
-  /// True when segment a -> b passes a tile that holds glass (or its neighbour).
-  bool near(const Vec2& a, const Vec2& b) const { return tiles_.near(a, b); }
+  /// True when segment a -> b passes a tile that holds glass (or its neighbour); `from` as
+  /// MarkedTiles::near's.
+  bool near(const Vec2& a, const Vec2& b, double* from = nullptr) const { return tiles_.near(a, b, from); }
 
  private:
   MarkedTiles tiles_;

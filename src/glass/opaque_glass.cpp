@@ -122,7 +122,9 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& t) {
     countSpurious(scan, o, t.surface, t.spurious);
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (!tiles.near(beam.from, beam.to)) return;
+      // From the first tile near glass on: the cells before it are neither glass nor next to it.
+      double from = 0.0;
+      if (!tiles.near(beam.from, beam.to, &from)) return;
       // A beam that went through a pane may have been folded by it: beyond that pane, where its
       // straight continuation ends says nothing about what it crosses.
       auto slot = [&](int x, int y) { return static_cast<std::size_t>(slots.find(x, y)); };
@@ -159,7 +161,7 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
         ++(pass ? t.pass[c] : t.stop[c]);
         if (pass && std::abs(dir.dot(n)) >= cos_near) ++t.near_pass[c];
         return true;
-      });
+      }, from);
       if (own) {  // direct: the walk reached its reading in the first pane (dir is set)
         const std::size_t c = slot(end.x, end.y);
         if (!direct) {

@@ -110,7 +110,9 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
           const std::int64_t c = candidates.find(end.x, end.y);
           if (c < 0) return;
           ++tally.returns[static_cast<std::size_t>(c)];
-          if (!tiles.near(beam.from, beam.to)) return;
+          // From the first tile near glass on: before it the beam crosses no glass, and nothing counts.
+          double from = 0.0;
+          if (!tiles.near(beam.from, beam.to, &from)) return;
           const double glass_until = beam.range - options.glass_margin;
           const double block_until = beam.range - options.block_margin;
           bool through_glass = false, is_folded = false;
@@ -137,7 +139,7 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
               }
             }
             return true;
-          });
+          }, from);
           // A reading in a glass cell beyond a pane whose mirror image (across that pane) is a
           // surface in front of it: the path the pane folded, which draws a phantom pane with the
           // very signature of glass (the mirrored pane's direct returns, from one angle).

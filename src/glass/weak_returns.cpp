@@ -28,13 +28,11 @@ class UndecidedTiles {
       : coarse_(detail::coarseGrid(g, kTile)), count_(coarse_.cells()) {}
   void add(int x, int y) { update(x, y, +1); }
   void remove(int x, int y) { update(x, y, -1); }
-  bool near(const Vec2& a, const Vec2& b) const {
-    bool found = false;
-    grid::traverse(coarse_, a, b, [&](int x, int y, double, bool) {
-      found = count_[coarse_.index(x, y)].load(std::memory_order_relaxed) != 0;
-      return !found;
-    });
-    return found;
+  /// True when segment a -> b passes an undecided cell's tile; `from`: detail::firstTile's.
+  bool near(const Vec2& a, const Vec2& b, double* from) const {
+    return detail::firstTile(
+        coarse_, coarse_.resolution / kTile, a, b,
+        [&](int x, int y) { return count_[coarse_.index(x, y)].load(std::memory_order_relaxed) != 0; }, from);
   }
 
  private:
@@ -77,9 +75,13 @@ std::vector<std::uint8_t> passedCells(const LaserLog& log, const grid::BeamOptio
   tbb::enumerable_thread_specific<int> unused;
   grid::forScansInParallel(log, {}, unused, [&](const LaserScan& scan, std::size_t, int&) {
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (!beam.hit || !undecided.near(beam.from, beam.to)) return;
+      double from = 0.0;
+      if (!beam.hit || !undecided.near(beam.from, beam.to, &from)) return;
       const double pass_until = beam.range - o.through_margin;
-      grid::traverse(g, beam.from, beam.to, [&](int x, int y, double enter, bool last) {
+      // From an undecided cell's tile on: the cells before it are decided or no candidates.
+      grid::traverse(
+          g, beam.from, beam.to,
+          [&](int x, int y, double enter, bool last) {
         if (last || !(enter * beam.range < pass_until)) return;
         const std::int64_t found = slot.find(x, y);
         if (found < 0) return;
@@ -87,7 +89,8 @@ std::vector<std::uint8_t> passedCells(const LaserLog& log, const grid::BeamOptio
         if (decided[k].load(std::memory_order_relaxed)) return;
         const std::uint32_t p = passes[k].fetch_add(1, std::memory_order_relaxed) + 1;
         if (holds(k, p) && decided[k].exchange(1, std::memory_order_relaxed) == 0) undecided.remove(x, y);
-      });
+          },
+          from);
     });
   });
   std::vector<std::uint8_t> out(n);

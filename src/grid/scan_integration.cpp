@@ -17,6 +17,33 @@ NoReturnMode parseNoReturnMode(const std::string& name) {
   throw Error("unknown no-return reading '" + name + "' (expected open or angular)", {}, 0, "no_returns");
 }
 
+std::shared_ptr<const BeamDirections> beamDirections(const LaserScan& scan) {
+  // A few layouts per thread, newest first (a log has one or two; a pass may nest another log's).
+  thread_local std::vector<std::shared_ptr<const BeamDirections>> cache;
+  const std::size_t n = scan.ranges.size();
+  for (std::size_t k = 0; k < cache.size(); ++k) {
+    const BeamDirections& d = *cache[k];
+    if (d.start_angle == scan.start_angle && d.angular_step == scan.angular_step && d.cos.size() == n) {
+      if (k > 0) std::swap(cache[k], cache[0]);
+      return cache[0];
+    }
+  }
+  auto d = std::make_shared<BeamDirections>();
+  d->start_angle = scan.start_angle;
+  d->angular_step = scan.angular_step;
+  d->cos.resize(n);
+  d->sin.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = scan.beamAngle(i);
+    d->cos[i] = std::cos(a);
+    d->sin[i] = std::sin(a);
+  }
+  constexpr std::size_t kKept = 4;
+  if (cache.size() == kKept) cache.pop_back();
+  cache.insert(cache.begin(), std::move(d));
+  return cache[0];
+}
+
 GridGeometry geometryForLog(const LaserLog& log, double resolution, const BeamOptions& options, double margin) {
   // Scans in parallel; a box's extension is a min and a max, the same whatever the split.
   tbb::enumerable_thread_specific<Eigen::AlignedBox2d> boxes;

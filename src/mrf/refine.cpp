@@ -3,6 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
+#include <utility>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_reduce.h>
 
 #include "glassmap/core/error.hpp"
 
@@ -80,68 +86,116 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
     if (neutral && (label == kUnknown || label == kEmpty)) return static_cast<std::uint16_t>(L);
     return label == kUnknown ? static_cast<std::uint16_t>(kEmpty) : label;
   };
-  LabelEnergy e;
-  std::vector<std::uint16_t> labels;
+  // A tile reads its cells and a one-cell border and writes only its own cells, so tiles two apart
+  // in x and in y are independent: the sweep solves the four colours of a 2 x 2 pattern in turn
+  // (a Gauss-Seidel order that is the same on any number of threads), each colour's tiles in
+  // parallel, each thread with its own solver and buffers.
+  struct Worker {
+    std::unique_ptr<MrfSolver> solver;
+    LabelEnergy e;
+    std::vector<std::uint16_t> labels;
+  };
+  tbb::enumerable_thread_specific<Worker> workers(
+      [&] { return Worker{makeSolver(options.solver, options.solve), {}, {}}; });
   std::vector<std::int64_t> gaps;  // of the tiles' Psi, which they share: made once
-  for (int sweep = 0; sweep < options.sweeps; ++sweep) {
-    std::int64_t before_sum = 0, after_sum = 0;
-    for (int ty = 0; ty < tiles_y; ++ty) {
-      for (int tx = 0; tx < tiles_x; ++tx) {
-        const auto& members = tile_cells[static_cast<std::size_t>(ty) * tiles_x + tx];
-        if (members.empty()) continue;
-        // The tile plus a one-cell border of fixed neighbours.
-        const int x0 = std::max(0, tx * options.tile - 1), y0 = std::max(0, ty * options.tile - 1);
-        const int x1 = std::min(W, (tx + 1) * options.tile + 1), y1 = std::min(H, (ty + 1) * options.tile + 1);
-        e.width = x1 - x0;
-        e.height = y1 - y0;
-        e.num_labels = Lx;
-        e.pairwise = psi_only.pairwise;
-        e.pairwise_dir = psi_only.pairwise_dir;
-        const std::size_t n = e.cells();
-        e.unary.assign(n * static_cast<std::size_t>(Lx), 0);
-        e.active.assign(n, 0);
-        e.candidates.clear();
-        labels.resize(n);
-        for (int y = y0; y < y1; ++y)
-          for (int x = x0; x < x1; ++x)
-            labels[static_cast<std::size_t>(y - y0) * e.width + (x - x0)] =
-                fixedLabel(ev.label[static_cast<std::size_t>(y) * W + x]);
-        for (const std::uint32_t i : members) {
-          const std::uint32_t cell = ev.cells[i];
-          const int x = static_cast<int>(cell % static_cast<std::uint32_t>(W)) - x0;
-          const int y = static_cast<int>(cell / static_cast<std::uint32_t>(W)) - y0;
-          const std::size_t c = static_cast<std::size_t>(y) * e.width + x;
-          const float* cost = ev.costs(i);
-          for (int l = 0; l < L; ++l)
-            e.unary[c * Lx + l] = static_cast<int32_t>(std::lround(options.unary_weight * cost[l] * kCostScale));
-          if (neutral) {  // the fixed cells' label, and the candidates' where the classifier offers it
-            const bool offered = options.candidates_neutral && !ev.neutral_cost.empty() &&
-                                 std::isfinite(ev.neutral_cost[i]);
-            e.unary[c * Lx + L] =
-                offered ? static_cast<int32_t>(std::lround(options.unary_weight * ev.neutral_cost[i] * kCostScale))
-                        : kNeverCost;
-          }
-          e.active[c] = 1;
-          const std::uint8_t own = ev.label[cell];
-          labels[c] = own == kUnknown ? static_cast<std::uint16_t>(kEmpty) : own;
-        }
-        if (gaps.empty()) gaps = candidateGaps(e);
-        restrictCandidates(e, gaps);
-        const MrfResult r = solver->solve(e, labels);
-        before_sum += r.initial_energy;
-        after_sum += r.energy;
-        ++result.tiles;
-        for (const std::uint32_t i : members) {
-          const std::uint32_t cell = ev.cells[i];
-          const int x = static_cast<int>(cell % static_cast<std::uint32_t>(W)) - x0;
-          const int y = static_cast<int>(cell / static_cast<std::uint32_t>(W)) - y0;
-          const std::uint16_t l = labels[static_cast<std::size_t>(y) * e.width + x];
-          ev.label[cell] = static_cast<std::uint8_t>(l == L ? kEmpty : l);
-        }
+  {
+    LabelEnergy table;  // one cell: the table is what counts
+    table.width = table.height = 1;
+    table.num_labels = Lx;
+    table.unary.assign(static_cast<std::size_t>(Lx), 0);
+    table.pairwise = psi_only.pairwise;
+    table.pairwise_dir = psi_only.pairwise_dir;
+    gaps = candidateGaps(table);
+  }
+  struct Energies {
+    std::int64_t before = 0, after = 0;
+    int tiles = 0;
+  };
+  const auto solveTile = [&](int tx, int ty, Worker& w) -> Energies {
+    const auto& members = tile_cells[static_cast<std::size_t>(ty) * tiles_x + tx];
+    if (members.empty()) return {};
+    LabelEnergy& e = w.e;
+    std::vector<std::uint16_t>& labels = w.labels;
+    // The tile plus a one-cell border of fixed neighbours.
+    const int x0 = std::max(0, tx * options.tile - 1), y0 = std::max(0, ty * options.tile - 1);
+    const int x1 = std::min(W, (tx + 1) * options.tile + 1), y1 = std::min(H, (ty + 1) * options.tile + 1);
+    e.width = x1 - x0;
+    e.height = y1 - y0;
+    e.num_labels = Lx;
+    e.pairwise = psi_only.pairwise;
+    e.pairwise_dir = psi_only.pairwise_dir;
+    const std::size_t n = e.cells();
+    e.unary.assign(n * static_cast<std::size_t>(Lx), 0);
+    e.active.assign(n, 0);
+    e.candidates.clear();
+    labels.resize(n);
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x)
+        labels[static_cast<std::size_t>(y - y0) * e.width + (x - x0)] =
+            fixedLabel(ev.label[static_cast<std::size_t>(y) * W + x]);
+    for (const std::uint32_t i : members) {
+      const std::uint32_t cell = ev.cells[i];
+      const int x = static_cast<int>(cell % static_cast<std::uint32_t>(W)) - x0;
+      const int y = static_cast<int>(cell / static_cast<std::uint32_t>(W)) - y0;
+      const std::size_t c = static_cast<std::size_t>(y) * e.width + x;
+      const float* cost = ev.costs(i);
+      for (int l = 0; l < L; ++l)
+        e.unary[c * Lx + l] = static_cast<int32_t>(std::lround(options.unary_weight * cost[l] * kCostScale));
+      if (neutral) {  // the fixed cells' label, and the candidates' where the classifier offers it
+        const bool offered =
+            options.candidates_neutral && !ev.neutral_cost.empty() && std::isfinite(ev.neutral_cost[i]);
+        e.unary[c * Lx + L] = offered
+                                  ? static_cast<int32_t>(std::lround(options.unary_weight * ev.neutral_cost[i] * kCostScale))
+                                  : kNeverCost;
       }
+      e.active[c] = 1;
+      const std::uint8_t own = ev.label[cell];
+      labels[c] = own == kUnknown ? static_cast<std::uint16_t>(kEmpty) : own;
     }
-    if (sweep == 0) result.energy_before = before_sum;
-    result.energy_after = after_sum;
+    restrictCandidates(e, gaps);
+    const MrfResult r = w.solver->solve(e, labels);
+    for (const std::uint32_t i : members) {
+      const std::uint32_t cell = ev.cells[i];
+      const int x = static_cast<int>(cell % static_cast<std::uint32_t>(W)) - x0;
+      const int y = static_cast<int>(cell / static_cast<std::uint32_t>(W)) - y0;
+      const std::uint16_t l = labels[static_cast<std::size_t>(y) * e.width + x];
+      ev.label[cell] = static_cast<std::uint8_t>(l == L ? kEmpty : l);
+    }
+    return {r.initial_energy, r.energy, 1};
+  };
+  for (int sweep = 0; sweep < options.sweeps; ++sweep) {
+    Energies sum;
+    for (int colour = 0; colour < 4; ++colour) {
+      std::vector<std::pair<int, int>> tiles;
+      for (int ty = colour / 2; ty < tiles_y; ty += 2)
+        for (int tx = colour % 2; tx < tiles_x; tx += 2)
+          if (!tile_cells[static_cast<std::size_t>(ty) * tiles_x + tx].empty()) tiles.emplace_back(tx, ty);
+      // Integer sums: the same whatever the split.
+      const Energies part = tbb::parallel_reduce(
+          tbb::blocked_range<std::size_t>(0, tiles.size(), 1), Energies{},
+          [&](const tbb::blocked_range<std::size_t>& r, Energies acc) {
+            Worker& w = workers.local();
+            for (std::size_t k = r.begin(); k != r.end(); ++k) {
+              const Energies one = solveTile(tiles[k].first, tiles[k].second, w);
+              acc.before += one.before;
+              acc.after += one.after;
+              acc.tiles += one.tiles;
+            }
+            return acc;
+          },
+          [](Energies a, const Energies& b) {
+            a.before += b.before;
+            a.after += b.after;
+            a.tiles += b.tiles;
+            return a;
+          });
+      sum.before += part.before;
+      sum.after += part.after;
+      sum.tiles += part.tiles;
+    }
+    result.tiles += sum.tiles;
+    if (sweep == 0) result.energy_before = sum.before;
+    result.energy_after = sum.after;
   }
   for (std::size_t c = 0; c < ev.label.size(); ++c) result.changed += ev.label[c] != before[c];
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

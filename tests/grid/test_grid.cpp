@@ -108,6 +108,44 @@ TEST(Traversal, LastCellIsTheWalksLastCell) {
   EXPECT_GT(compared, 1000);
 }
 
+TEST(Traversal, AWalkFromAParameterIsTheFullWalksRest) {
+  const GridGeometry g = smallGrid();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> ux(-1.5, 3.5), uy(-2.5, 1.5), u01(0.0, 1.0);
+  int compared = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const Vec2 a(ux(rng), uy(rng)), b(ux(rng), uy(rng));
+    std::vector<std::pair<CellIndex, double>> full;
+    traverse(g, a, b, [&](int x, int y, double t, bool) { full.push_back({{x, y}, t}); });
+    if (full.size() < 2) continue;
+    // From inside the k-th cell: the k-th cell on, entered at the start parameter, `last` kept.
+    const std::size_t k = std::uniform_int_distribution<std::size_t>(0, full.size() - 1)(rng);
+    double t0 = 0.0, t1 = 1.0;  // the walk ends where the segment leaves the grid
+    ASSERT_TRUE(clipToGrid(g, a, b, t0, t1));
+    const double t_next = k + 1 < full.size() ? full[k + 1].second : t1;
+    const double t_from = full[k].second + (0.1 + 0.8 * u01(rng)) * (t_next - full[k].second);
+    std::vector<CellIndex> rest;
+    bool last_seen = false;
+    double first_t = -1.0;
+    traverse(
+        g, a, b,
+        [&](int x, int y, double t, bool last) {
+          if (rest.empty()) first_t = t;
+          rest.push_back({x, y});
+          last_seen = last;
+        },
+        t_from);
+    ASSERT_EQ(rest.size(), full.size() - k) << "trial " << trial;
+    for (std::size_t i = 0; i < rest.size(); ++i) EXPECT_EQ(rest[i], full[k + i].first) << "trial " << trial;
+    EXPECT_DOUBLE_EQ(first_t, t_from);
+    EXPECT_TRUE(last_seen);
+    ++compared;
+  }
+  EXPECT_GT(compared, 1500);
+  // Past the end: nothing.
+  EXPECT_EQ(traverse(g, Vec2(0.01, 0.01), Vec2(1.0, 0.5), [](int, int, double, bool) {}, 1.5), 0U);
+}
+
 TEST(Traversal, AxisAlignedAndSingleCell) {
   const GridGeometry g = smallGrid();
   const auto row = touchedCells(g, Vec2(-0.95, -1.95), Vec2(0.05, -1.95));

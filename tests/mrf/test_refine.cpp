@@ -4,6 +4,8 @@
 #include <cmath>
 #include <random>
 
+#include <tbb/global_control.h>
+
 #include "glassmap/core/error.hpp"
 #include "glassmap/mrf/energy.hpp"
 
@@ -104,6 +106,30 @@ TEST(MrfRefine, DeterministicAndTileSizeIndependentOnThisCase) {
   mrf::refine(c, o);
   EXPECT_EQ(a.label, b.label);
   EXPECT_EQ(a.label, c.label);
+}
+
+TEST(MrfRefine, TheSameLabelsOnOneThreadAsOnMany) {
+  // Tiles of one colour of a 2 x 2 pattern are solved in parallel: small tiles, many of them.
+  for (const int tile : {8, 12}) {
+    glass::CellEvidence serial = noisyPane(4), parallel = noisyPane(4);
+    mrf::RefineOptions o;
+    o.unary_weight = 3.0;
+    o.tile = tile;
+    mrf::RefineResult rs, rp;
+    {
+      tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+      rs = mrf::refine(serial, o);
+    }
+    {
+      tbb::global_control four(tbb::global_control::max_allowed_parallelism, 4);
+      rp = mrf::refine(parallel, o);
+    }
+    EXPECT_EQ(serial.label, parallel.label) << "tile " << tile;
+    EXPECT_EQ(rs.energy_before, rp.energy_before);
+    EXPECT_EQ(rs.energy_after, rp.energy_after);
+    EXPECT_EQ(rs.tiles, rp.tiles);
+    EXPECT_GT(rs.tiles, 8);
+  }
 }
 
 TEST(MrfRefine, RejectsBadOptions) {

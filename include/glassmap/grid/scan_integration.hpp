@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "glassmap/core/laser_scan.hpp"
 #include "glassmap/grid/angle_histograms.hpp"
@@ -80,10 +82,25 @@ enum class BeamFilter {
   Hit,       ///< beams that returned within the range cap
 };
 
+/// The directions of a scan's beams in the laser frame, cos and sin of start_angle + i * angular_step:
+/// every scan of a log has the same few layouts, so a pass over the beams needs one sincos per scan
+/// (the laser's heading) instead of one per beam.
+struct BeamDirections {
+  double start_angle = 0.0, angular_step = 0.0;
+  std::vector<double> cos, sin;
+};
+
+/// The directions of scan's layout, made on first use and kept per thread (a few layouts).
+std::shared_ptr<const BeamDirections> beamDirections(const LaserScan& scan);
+
 /// Calls fn(const Beam&) for every usable beam of scan (see BeamOptions) that `filter` lets through.
+/// A beam's direction is the laser's heading turned by its layout's direction (beamDirections):
+/// within a few units in the last place of cos and sin of beam.angle.
 template <class Fn>
 void forEachBeam(const LaserScan& scan, const BeamOptions& options, Fn&& fn, BeamFilter filter = BeamFilter::All) {
   const double cap = options.range_cap;
+  const std::shared_ptr<const BeamDirections> dirs = beamDirections(scan);
+  const double ct = std::cos(scan.laser_pose.theta), st = std::sin(scan.laser_pose.theta);
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
     const float r = scan.ranges[i];
     Beam beam;
@@ -100,7 +117,8 @@ void forEachBeam(const LaserScan& scan, const BeamOptions& options, Fn&& fn, Bea
     }
     beam.angle = scan.laser_pose.theta + scan.beamAngle(i);
     beam.from = scan.laser_pose.t;
-    beam.to = beam.from + beam.range * Vec2(std::cos(beam.angle), std::sin(beam.angle));
+    const double c = dirs->cos[i], s = dirs->sin[i];
+    beam.to = beam.from + beam.range * Vec2(ct * c - st * s, st * c + ct * s);
     fn(beam);
   }
 }

@@ -23,10 +23,16 @@ bool clipToGrid(const GridGeometry& g, const Vec2& a, const Vec2& b, double& t0,
 /// the segment enters the cell, last is true for the final cell (the one holding b when b lies in
 /// the grid). If visit returns bool, false stops the walk.
 /// Returns the number of cells visited. A segment exactly through a cell corner steps in x first.
+/// With t_from > 0 the walk starts at the cell holding a + t_from (b - a), entered (t_enter) at
+/// t_from: the rest of the full walk's cells (up to how a corner exactly on the segment rounds).
 template <class Visit>
-std::size_t traverse(const GridGeometry& g, const Vec2& a, const Vec2& b, Visit&& visit) {
+std::size_t traverse(const GridGeometry& g, const Vec2& a, const Vec2& b, Visit&& visit, double t_from = 0.0) {
   double t0 = 0.0, t1 = 1.0;
   if (!clipToGrid(g, a, b, t0, t1)) return 0;
+  if (t_from > t0) {
+    if (t_from > t1) return 0;
+    t0 = t_from;
+  }
   const double inv_res = 1.0 / g.resolution;
   // Grid coordinates (cell units) of the clipped start and end.
   const double ax = (a.x() - g.origin.x()) * inv_res, ay = (a.y() - g.origin.y()) * inv_res;
