@@ -10,6 +10,7 @@
 #include "glassmap/core/split_mix.hpp"
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
+#include "glass_tiles.hpp"
 
 namespace glassmap::glass {
 namespace {
@@ -166,6 +167,12 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
     const auto c = g.cellOf(hist.cell(static_cast<std::int32_t>(i)));
     occupied[i] = occ.occupied(counts.get(c.x, c.y)) ? 1 : 0;
   }
+  // Tiles of 4 x 4 cells near candidates: the walks skip the open space between them.
+  detail::MarkedTiles near_candidates(g, 4);
+  for (std::size_t i = 0; i < hist.size(); ++i) {
+    const auto c = g.cellOf(hist.cell(static_cast<std::int32_t>(i)));
+    near_candidates.mark(c.x, c.y);
+  }
   const double search = o.search_cells * res;
   // A thread's part: its histogram counts, its sums in fixed point (exact integer sums, so the
   // total does not depend on how the scans were shared out), its statistics.
@@ -193,7 +200,7 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
           double d_real = std::numeric_limits<double>::infinity();
           std::int32_t end_id = AngleHistograms::kNone;
           const grid::MissTest misses(beam, beams.miss_margin);
-          st.cells_traversed += grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool last) {
+          st.cells_traversed += detail::traverseMarked(g, near_candidates, beam.from, beam.to, [&](int x, int y, double t, bool last) {
             const std::int32_t id = hist.find(x, y);
             if (id == AngleHistograms::kNone) return;
             if (end_inside && last) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "glassmap/core/labels.hpp"
@@ -66,12 +67,65 @@ class MarkedTiles {
         coarse_, coarse_.resolution / tile_, a, b, [&](int x, int y) { return marked_[coarse_.index(x, y)] != 0; },
         from);
   }
+  /// The walk of segment a -> b over the tiles in runs of marked ones: run(t_in, t_out) per run, in
+  /// order, t_in where the walk enters its first tile, t_out where it leaves its last (infinity when
+  /// the run reaches the segment's end).
+  template <class Run>
+  void forEachRun(const Vec2& a, const Vec2& b, Run&& run) const {
+    double t_in = -1.0;  // < 0: not in a run
+    grid::traverse(coarse_, a, b, [&](int x, int y, double t, bool) {
+      const bool marked = marked_[coarse_.index(x, y)] != 0;
+      if (marked && t_in < 0.0) t_in = t;
+      if (!marked && t_in >= 0.0) {
+        run(t_in, t);
+        t_in = -1.0;
+      }
+    });
+    if (t_in >= 0.0) run(t_in, std::numeric_limits<double>::infinity());
+  }
 
  private:
   int tile_;
   grid::GridGeometry coarse_;
   std::vector<std::uint8_t> marked_;
 };
+
+/// Calls visit(x, y, t_enter, last) as traverse(g, a, b, visit) would for every cell of segment
+/// a -> b that is marked in `tiles` or next to a marked cell, in order and once each, walking the fine
+/// cells only in the runs of marked tiles (from one fine cell before a run's first tile to where it
+/// leaves its last): a pass that reads only marked cells skips the open space between them. A few
+/// other cells near the runs' ends are visited too; t_enter of a run's first cell is where its walk
+/// starts. Returns the cells visited.
+template <class Visit>
+std::size_t traverseMarked(const grid::GridGeometry& g, const MarkedTiles& tiles, const Vec2& a, const Vec2& b,
+                           Visit&& visit) {
+  const double length = (b - a).norm();
+  const double back = length > 0.0 ? g.resolution / length : 0.0;
+  std::size_t visited = 0;
+  double resume = 0.0;  // where the last run's walk stopped: the first cell it did not visit
+  grid::CellIndex previous{-1, -1};
+  tiles.forEachRun(a, b, [&](double t_in, double t_out) {
+    bool first = true;
+    grid::traverse(
+        g, a, b,
+        [&](int x, int y, double t, bool last) {
+          if (t >= t_out) {
+            resume = t;
+            return false;
+          }
+          // A walk resumed on a cell border may round into the cell the last run ended in.
+          const bool again = first && x == previous.x && y == previous.y;
+          first = false;
+          if (again) return true;
+          previous = {x, y};
+          ++visited;
+          visit(x, y, t, last);
+          return true;
+        },
+        std::max(resume, t_in - back));
+  });
+  return visited;
+}
 
 /// Tiles of 2 x 2 cells that hold glass: a beam whose walk over them meets none cannot cross a
 /// pane, and most beams of a floor never do.

@@ -1,6 +1,7 @@
 #include "glassmap/grid/no_returns.hpp"
 
 #include <bit>
+#include <vector>
 
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
@@ -44,13 +45,17 @@ NoReturnStops noReturnStops(const LaserLog& log, const BeamOptions& options, con
     for (std::size_t i = 0; i < tally.size(); ++i) tally[i] += part[i];
   NoReturnStops stops(hist);
   const auto n = static_cast<std::int32_t>(hist.size());
+  std::vector<std::uint32_t> returned(static_cast<std::size_t>(bins)), crossing(static_cast<std::size_t>(bins));
   for (std::int32_t id = 0; id < n; ++id) {
-    const std::uint32_t* returned = &tally[static_cast<std::size_t>(id) * 2 * bins];
-    const std::uint32_t* crossing = returned + bins;
     for (int b = 0; b < bins; ++b) {
-      const int p = (b + bins - 1) % bins, q = (b + 1) % bins;
-      const std::uint32_t r = returned[p] + returned[b] + returned[q];
-      if (r > 0 && r >= crossing[p] + crossing[b] + crossing[q]) stops.set(id, b);
+      returned[static_cast<std::size_t>(b)] = tally[hist.countsIndex(id, b, false)];
+      crossing[static_cast<std::size_t>(b)] = tally[hist.countsIndex(id, b, true)];
+    }
+    for (int b = 0; b < bins; ++b) {
+      const auto p = static_cast<std::size_t>((b + bins - 1) % bins), q = static_cast<std::size_t>((b + 1) % bins);
+      const auto c = static_cast<std::size_t>(b);
+      const std::uint32_t r = returned[p] + returned[c] + returned[q];
+      if (r > 0 && r >= crossing[p] + crossing[c] + crossing[q]) stops.set(id, b);
     }
   }
   return stops;

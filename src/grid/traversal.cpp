@@ -6,9 +6,13 @@ bool clipToGrid(const GridGeometry& g, const Vec2& a, const Vec2& b, double& t0,
   // Liang-Barsky against [origin, maxCorner]. A hair inside, so floor() of a clipped point on
   // the upper border still names a cell of the grid.
   const Vec2 lo = g.origin, hi = g.maxCorner();
-  const Vec2 d = b - a;
   t0 = 0.0;
   t1 = 1.0;
+  // Both ends in the box (most beams): the whole segment, as the divisions below would find it.
+  if (a.x() >= lo.x() && a.x() <= hi.x() && a.y() >= lo.y() && a.y() <= hi.y() && b.x() >= lo.x() &&
+      b.x() <= hi.x() && b.y() >= lo.y() && b.y() <= hi.y())
+    return true;
+  const Vec2 d = b - a;
   const double p[4] = {-d.x(), d.x(), -d.y(), d.y()};
   const double q[4] = {a.x() - lo.x(), hi.x() - a.x(), a.y() - lo.y(), hi.y() - a.y()};
   for (int i = 0; i < 4; ++i) {

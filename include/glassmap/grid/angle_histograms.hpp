@@ -32,11 +32,13 @@ class AngleHistograms {
   int bins() const { return bins_; }
   std::size_t size() const { return cells_.size(); }
 
-  /// Candidate id of cell (x, y) inside the grid, or kNone.
+  /// Candidate id of cell (x, y) inside the grid, or kNone. A bit per cell answers first (a walk
+  /// meets far more other cells than candidates, and the bits stay in cache where the ids do not).
   std::int32_t find(int x, int y) const {
-    const auto& tile = tiles_[tileIndex(x, y)];
-    if (!tile) return kNone;
-    return tile[((y & (kTileSize - 1)) << kTileBits) | (x & (kTileSize - 1))];
+    const std::size_t tile = tileIndex(x, y);
+    const std::size_t bit = (tile << (2 * kTileBits)) | tileOffset(x, y);
+    if (!((candidate_bits_[bit >> 6] >> (bit & 63)) & 1U)) return kNone;
+    return tiles_[tile][tileOffset(x, y)];
   }
   /// find() for a walk that visits neighbouring cells in turn: keeps the index tile of the last
   /// cell (a step within it looks up no tile). The histograms must outlive the cursor.
@@ -46,17 +48,22 @@ class AngleHistograms {
     std::int32_t find(int x, int y) {
       const int tx = x >> kTileBits, ty = y >> kTileBits;
       if (tx != tx_ || ty != ty_) {
-        tile_ = h_->tiles_[h_->tileIndex(x, y)].get();
+        const std::size_t tile = h_->tileIndex(x, y);
+        tile_ = h_->tiles_[tile].get();
+        bits_ = tile_ ? &h_->candidate_bits_[tile << (2 * kTileBits - 6)] : nullptr;
         tx_ = tx;
         ty_ = ty;
       }
       if (!tile_) return kNone;
-      return tile_[((y & (kTileSize - 1)) << kTileBits) | (x & (kTileSize - 1))];
+      const std::size_t offset = tileOffset(x, y);
+      if (!((bits_[offset >> 6] >> (offset & 63)) & 1U)) return kNone;
+      return tile_[offset];
     }
 
    private:
     const AngleHistograms* h_;
     const std::int32_t* tile_ = nullptr;
+    const std::uint64_t* bits_ = nullptr;  // the tile's candidate bits
     int tx_ = -1, ty_ = -1;
   };
 
@@ -78,16 +85,22 @@ class AngleHistograms {
     if (c != 0xFFFF) ++c;
   }
 
-  /// Counts for one thread of a parallel pass: a zeroed array shaped like this one's histograms,
-  /// filled with addHit/addMiss(counts, ...) and added back with merge(). Saturating throughout,
-  /// so the merged histograms equal a serial pass whatever the split.
+  /// Counts for one thread of a parallel pass: a zeroed array of a histogram's size, filled with
+  /// addHit/addMiss(counts, ...) and added back with merge(). Saturating throughout, so the merged
+  /// histograms equal a serial pass whatever the split. Bin by bin (countsIndex), unlike the
+  /// histograms: the beams of a scan that follow each other share a bin, so a pass works in one
+  /// bin's counts of every candidate (2 bytes each) at a time rather than across all of memory.
   std::vector<std::uint16_t> emptyCounts() const { return std::vector<std::uint16_t>(counts_.size(), 0); }
+  /// Where an emptyCounts() array keeps the hits (or misses) of candidate id in bin `bin`.
+  std::size_t countsIndex(std::int32_t id, int bin, bool miss) const {
+    return static_cast<std::size_t>(miss ? bins_ + bin : bin) * cells_.size() + static_cast<std::size_t>(id);
+  }
   void addHit(std::vector<std::uint16_t>& counts, std::int32_t id, int bin) const {
-    auto& c = counts[static_cast<std::size_t>(id) * 2 * bins_ + static_cast<std::size_t>(bin)];
+    auto& c = counts[countsIndex(id, bin, false)];
     if (c != 0xFFFF) ++c;
   }
   void addMiss(std::vector<std::uint16_t>& counts, std::int32_t id, int bin) const {
-    auto& c = counts[static_cast<std::size_t>(id) * 2 * bins_ + static_cast<std::size_t>(bins_ + bin)];
+    auto& c = counts[countsIndex(id, bin, true)];
     if (c != 0xFFFF) ++c;
   }
   void merge(const std::vector<std::uint16_t>& counts);
@@ -101,11 +114,15 @@ class AngleHistograms {
   std::size_t tileIndex(int x, int y) const {
     return static_cast<std::size_t>(y >> kTileBits) * tiles_x_ + static_cast<std::size_t>(x >> kTileBits);
   }
+  static std::size_t tileOffset(int x, int y) {
+    return static_cast<std::size_t>(((y & (kTileSize - 1)) << kTileBits) | (x & (kTileSize - 1)));
+  }
 
   GridGeometry geometry_;
   int bins_ = 36;
   std::size_t tiles_x_ = 0;
   std::vector<std::unique_ptr<std::int32_t[]>> tiles_;  // only tiles holding candidates
+  std::vector<std::uint64_t> candidate_bits_;            // a bit per cell, tile by tile
   std::vector<std::uint32_t> cells_;
   std::vector<std::uint16_t> counts_;  // per candidate: hits[bins], misses[bins]
 };
