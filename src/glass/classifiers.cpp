@@ -6,11 +6,11 @@
 #include <limits>
 #include <vector>
 
+#include "glass_tiles.hpp"
 #include "glassmap/core/error.hpp"
 #include "glassmap/core/split_mix.hpp"
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
-#include "glass_tiles.hpp"
 
 namespace glassmap::glass {
 namespace {
@@ -200,17 +200,18 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
           double d_real = std::numeric_limits<double>::infinity();
           std::int32_t end_id = AngleHistograms::kNone;
           const grid::MissTest misses(beam, beams.miss_margin);
-          st.cells_traversed += detail::traverseMarked(g, near_candidates, beam.from, beam.to, [&](int x, int y, double t, bool last) {
-            const std::int32_t id = hist.find(x, y);
-            if (id == AngleHistograms::kNone) return;
-            if (end_inside && last) {
-              hist.addHit(part.counts, id, bin);
-              end_id = id;
-            } else if (misses(t)) {
-              hist.addMiss(part.counts, id, bin);
-            }
-            if (occupied[static_cast<std::size_t>(id)] && !std::isfinite(d_real)) d_real = t * beam.range;
-          });
+          st.cells_traversed +=
+              detail::traverseMarked(g, near_candidates, beam.from, beam.to, [&](int x, int y, double t, bool last) {
+                const std::int32_t id = hist.find(x, y);
+                if (id == AngleHistograms::kNone) return;
+                if (end_inside && last) {
+                  hist.addHit(part.counts, id, bin);
+                  end_id = id;
+                } else if (misses(t)) {
+                  hist.addMiss(part.counts, id, bin);
+                }
+                if (occupied[static_cast<std::size_t>(id)] && !std::isfinite(d_real)) d_real = t * beam.range;
+              });
           if (end_id == AngleHistograms::kNone) return;
           ++st.hit_beams;
           if (!std::isfinite(d_real)) {  // continue the beam past its reading

@@ -14,9 +14,6 @@
 
 namespace glassmap::glass::detail {
 
-/// Coarse tiles of `tile` x `tile` cells that hold a marked cell, grown by one tile (the coarse walk
-/// of a segment and its fine walk may round a corner differently): a segment whose walk over the
-/// tiles meets none of them crosses no marked cell.
 /// The grid of tiles of `tile` x `tile` cells over g.
 inline grid::GridGeometry coarseGrid(const grid::GridGeometry& g, int tile) {
   grid::GridGeometry c;
@@ -32,8 +29,8 @@ inline grid::GridGeometry coarseGrid(const grid::GridGeometry& g, int tile) {
 /// (of `fine_resolution`) before that tile's entry meets every marked cell on the segment and every
 /// cell within a tile of one: `from` (when given) is that start, as traverse's t_from.
 template <class Marked>
-bool firstTile(const grid::GridGeometry& coarse, double fine_resolution, const Vec2& a, const Vec2& b,
-               Marked&& marked, double* from) {
+bool firstTile(const grid::GridGeometry& coarse, double fine_resolution, const Vec2& a, const Vec2& b, Marked&& marked,
+               double* from) {
   double entry = 0.0;
   bool found = false;
   grid::traverse(coarse, a, b, [&](int x, int y, double t, bool) {
@@ -48,6 +45,9 @@ bool firstTile(const grid::GridGeometry& coarse, double fine_resolution, const V
   return found;
 }
 
+/// Coarse tiles of `tile` x `tile` cells that hold a marked cell, grown by one tile (the coarse walk
+/// of a segment and its fine walk may round a corner differently): a segment whose walk over the
+/// tiles meets none of them crosses no marked cell.
 class MarkedTiles {
  public:
   MarkedTiles(const grid::GridGeometry& g, int tile) : tile_(tile), coarse_(coarseGrid(g, tile)) {
@@ -61,7 +61,7 @@ class MarkedTiles {
   }
   /// True when segment a -> b passes a tile that holds a marked cell (or its neighbour); then
   /// `from` (when given) is where a fine walk of the segment may start and meet every marked cell
-  /// on it (firstTileStart).
+  /// on it (firstTile).
   bool near(const Vec2& a, const Vec2& b, double* from = nullptr) const {
     return firstTile(
         coarse_, coarse_.resolution / tile_, a, b, [&](int x, int y) { return marked_[coarse_.index(x, y)] != 0; },

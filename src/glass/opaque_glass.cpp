@@ -137,31 +137,34 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
       bool in_glass = false, direct = false, gap = false;
       double beyond = 0.0;
       Vec2 dir = Vec2::Zero();
-      grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
-        const std::size_t i = g.index(x, y);
-        if (!is_glass[i]) {
-          if (in_glass) return false;  // past the first pane: nothing more counts
-          if (near_glass[i]) gap = true;
-          return !gap || near_glass[i];  // out of a gap in a pane's labels: through the pane
-        }
-        if (!in_glass) {
-          const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
-          beyond = std::max(o.beyond, 5.0 * sigma);
-          dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
-        }
-        in_glass = true;
-        if (last) {
-          direct = true;  // its reading in the first pane it met
-          return false;
-        }
-        const std::size_t c = slot(x, y);
-        const Vec2 n = dir.dot(normals[c]) >= 0.0 ? normals[c] : Vec2(-normals[c]);
-        const double past = n.dot(beam.to - g.center(x, y));
-        const bool pass = !beam.hit || past >= beyond;
-        ++(pass ? t.pass[c] : t.stop[c]);
-        if (pass && std::abs(dir.dot(n)) >= cos_near) ++t.near_pass[c];
-        return true;
-      }, from);
+      grid::traverse(
+          g, beam.from, beam.to,
+          [&](int x, int y, double, bool last) {
+            const std::size_t i = g.index(x, y);
+            if (!is_glass[i]) {
+              if (in_glass) return false;  // past the first pane: nothing more counts
+              if (near_glass[i]) gap = true;
+              return !gap || near_glass[i];  // out of a gap in a pane's labels: through the pane
+            }
+            if (!in_glass) {
+              const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
+              beyond = std::max(o.beyond, 5.0 * sigma);
+              dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
+            }
+            in_glass = true;
+            if (last) {
+              direct = true;  // its reading in the first pane it met
+              return false;
+            }
+            const std::size_t c = slot(x, y);
+            const Vec2 n = dir.dot(normals[c]) >= 0.0 ? normals[c] : Vec2(-normals[c]);
+            const double past = n.dot(beam.to - g.center(x, y));
+            const bool pass = !beam.hit || past >= beyond;
+            ++(pass ? t.pass[c] : t.stop[c]);
+            if (pass && std::abs(dir.dot(n)) >= cos_near) ++t.near_pass[c];
+            return true;
+          },
+          from);
       if (own) {  // direct: the walk reached its reading in the first pane (dir is set)
         const std::size_t c = slot(end.x, end.y);
         if (!direct) {

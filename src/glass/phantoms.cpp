@@ -118,28 +118,31 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
           bool through_glass = false, is_folded = false;
           int pane_label = -1;
           Vec2 pane_at = Vec2::Zero();
-          grid::traverse(g, beam.from, beam.to, [&](int x, int y, double t, bool) {
-            const double d = t * beam.range;
-            if (d >= glass_until) return false;
-            const int l = e.label[g.index(x, y)];
-            if (isGlass(l)) {
-              if (!through_glass) {
-                pane_label = l;
-                pane_at = beam.from + d * (beam.to - beam.from) / beam.range;
-              }
-              through_glass = true;
-            } else if (through_glass && l == kOccupied && d < block_until) {
-              // Blocked only if the reading lies well beyond the wall's line, not just further
-              // along a wall the beam grazes (a pane's frame, a corner).
-              Vec2 n;
-              const Vec2 centre = g.origin + (Vec2(x, y) + Vec2(0.5, 0.5)) * g.resolution;
-              if (wallNormal(e, x, y, n) && std::abs(n.dot(beam.to - centre)) >= options.block_margin) {
-                is_folded = true;
-                return false;
-              }
-            }
-            return true;
-          }, from);
+          grid::traverse(
+              g, beam.from, beam.to,
+              [&](int x, int y, double t, bool) {
+                const double d = t * beam.range;
+                if (d >= glass_until) return false;
+                const int l = e.label[g.index(x, y)];
+                if (isGlass(l)) {
+                  if (!through_glass) {
+                    pane_label = l;
+                    pane_at = beam.from + d * (beam.to - beam.from) / beam.range;
+                  }
+                  through_glass = true;
+                } else if (through_glass && l == kOccupied && d < block_until) {
+                  // Blocked only if the reading lies well beyond the wall's line, not just further
+                  // along a wall the beam grazes (a pane's frame, a corner).
+                  Vec2 n;
+                  const Vec2 centre = g.origin + (Vec2(x, y) + Vec2(0.5, 0.5)) * g.resolution;
+                  if (wallNormal(e, x, y, n) && std::abs(n.dot(beam.to - centre)) >= options.block_margin) {
+                    is_folded = true;
+                    return false;
+                  }
+                }
+                return true;
+              },
+              from);
           // A reading in a glass cell beyond a pane whose mirror image (across that pane) is a
           // surface in front of it: the path the pane folded, which draws a phantom pane with the
           // very signature of glass (the mirrored pane's direct returns, from one angle).

@@ -63,8 +63,8 @@ std::size_t AngleHistograms::bytes() const {
   std::size_t tiles = 0;
   for (const auto& t : tiles_) tiles += t ? 1 : 0;
   return tiles_.size() * sizeof(tiles_[0]) + tiles * kTileSize * kTileSize * sizeof(std::int32_t) +
-         candidate_bits_.capacity() * sizeof(std::uint64_t) +
-         cells_.capacity() * sizeof(std::uint32_t) + counts_.capacity() * sizeof(std::uint16_t);
+         candidate_bits_.capacity() * sizeof(std::uint64_t) + cells_.capacity() * sizeof(std::uint32_t) +
+         counts_.capacity() * sizeof(std::uint16_t);
 }
 
 }  // namespace glassmap::grid

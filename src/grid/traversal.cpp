@@ -9,8 +9,8 @@ bool clipToGrid(const GridGeometry& g, const Vec2& a, const Vec2& b, double& t0,
   t0 = 0.0;
   t1 = 1.0;
   // Both ends in the box (most beams): the whole segment, as the divisions below would find it.
-  if (a.x() >= lo.x() && a.x() <= hi.x() && a.y() >= lo.y() && a.y() <= hi.y() && b.x() >= lo.x() &&
-      b.x() <= hi.x() && b.y() >= lo.y() && b.y() <= hi.y())
+  if (a.x() >= lo.x() && a.x() <= hi.x() && a.y() >= lo.y() && a.y() <= hi.y() && b.x() >= lo.x() && b.x() <= hi.x() &&
+      b.y() >= lo.y() && b.y() <= hi.y())
     return true;
   const Vec2 d = b - a;
   const double p[4] = {-d.x(), d.x(), -d.y(), d.y()};

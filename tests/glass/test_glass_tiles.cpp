@@ -58,8 +58,7 @@ TEST(GlassTiles, AWalkFromTheFirstMarkedTileMeetsEveryMarkedCell) {
       const std::size_t cells = grid::traverse(
           g, a, b, [&](int x, int y, double, bool) { walked.emplace(x, y); }, from);
       for (const auto& c : needed)
-        EXPECT_TRUE(walked.count(c)) << "tile " << tile << " trial " << trial << " cell " << c.first << ","
-                                     << c.second;
+        EXPECT_TRUE(walked.count(c)) << "tile " << tile << " trial " << trial << " cell " << c.first << "," << c.second;
       skipped_cells += static_cast<int>(grid::touchedCells(g, a, b).size() - cells);
       ++met;
     }

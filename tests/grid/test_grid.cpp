@@ -143,7 +143,9 @@ TEST(Traversal, AWalkFromAParameterIsTheFullWalksRest) {
   }
   EXPECT_GT(compared, 1500);
   // Past the end: nothing.
-  EXPECT_EQ(traverse(g, Vec2(0.01, 0.01), Vec2(1.0, 0.5), [](int, int, double, bool) {}, 1.5), 0U);
+  EXPECT_EQ(traverse(
+                g, Vec2(0.01, 0.01), Vec2(1.0, 0.5), [](int, int, double, bool) {}, 1.5),
+            0U);
 }
 
 TEST(Traversal, AxisAlignedAndSingleCell) {

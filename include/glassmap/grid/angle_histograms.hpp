@@ -122,7 +122,7 @@ class AngleHistograms {
   int bins_ = 36;
   std::size_t tiles_x_ = 0;
   std::vector<std::unique_ptr<std::int32_t[]>> tiles_;  // only tiles holding candidates
-  std::vector<std::uint64_t> candidate_bits_;            // a bit per cell, tile by tile
+  std::vector<std::uint64_t> candidate_bits_;           // a bit per cell, tile by tile
   std::vector<std::uint32_t> cells_;
   std::vector<std::uint16_t> counts_;  // per candidate: hits[bins], misses[bins]
 };
