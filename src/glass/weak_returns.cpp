@@ -82,13 +82,13 @@ std::vector<std::uint8_t> passedCells(const LaserLog& log, const grid::BeamOptio
       grid::traverse(
           g, beam.from, beam.to,
           [&](int x, int y, double enter, bool last) {
-        if (last || !(enter * beam.range < pass_until)) return;
-        const std::int64_t found = slot.find(x, y);
-        if (found < 0) return;
-        const auto k = static_cast<std::size_t>(found);
-        if (decided[k].load(std::memory_order_relaxed)) return;
-        const std::uint32_t p = passes[k].fetch_add(1, std::memory_order_relaxed) + 1;
-        if (holds(k, p) && decided[k].exchange(1, std::memory_order_relaxed) == 0) undecided.remove(x, y);
+            if (last || !(enter * beam.range < pass_until)) return;
+            const std::int64_t found = slot.find(x, y);
+            if (found < 0) return;
+            const auto k = static_cast<std::size_t>(found);
+            if (decided[k].load(std::memory_order_relaxed)) return;
+            const std::uint32_t p = passes[k].fetch_add(1, std::memory_order_relaxed) + 1;
+            if (holds(k, p) && decided[k].exchange(1, std::memory_order_relaxed) == 0) undecided.remove(x, y);
           },
           from);
     });

@@ -67,7 +67,6 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
       psi_only.pairwise_dir = std::move(dir);
     }
   }
-  const auto solver = makeSolver(options.solver, options.solve);
   const std::vector<std::uint8_t> before = ev.label;
 
   // Candidate cells per tile (cells is sorted by linear index y * W + x).
@@ -95,8 +94,9 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
     LabelEnergy e;
     std::vector<std::uint16_t> labels;
   };
-  tbb::enumerable_thread_specific<Worker> workers(
-      [&] { return Worker{makeSolver(options.solver, options.solve), {}, {}}; });
+  tbb::enumerable_thread_specific<Worker> workers([&] {
+    return Worker{makeSolver(options.solver, options.solve), {}, {}};
+  });
   std::vector<std::int64_t> gaps;  // of the tiles' Psi, which they share: made once
   {
     LabelEnergy table;  // one cell: the table is what counts
@@ -110,6 +110,12 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
   struct Energies {
     std::int64_t before = 0, after = 0;
     int tiles = 0;
+    Energies& operator+=(const Energies& o) {
+      before += o.before;
+      after += o.after;
+      tiles += o.tiles;
+      return *this;
+    }
   };
   const auto solveTile = [&](int tx, int ty, Worker& w) -> Energies {
     const auto& members = tile_cells[static_cast<std::size_t>(ty) * tiles_x + tx];
@@ -144,9 +150,9 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
       if (neutral) {  // the fixed cells' label, and the candidates' where the classifier offers it
         const bool offered =
             options.candidates_neutral && !ev.neutral_cost.empty() && std::isfinite(ev.neutral_cost[i]);
-        e.unary[c * Lx + L] = offered
-                                  ? static_cast<int32_t>(std::lround(options.unary_weight * ev.neutral_cost[i] * kCostScale))
-                                  : kNeverCost;
+        e.unary[c * Lx + L] =
+            offered ? static_cast<int32_t>(std::lround(options.unary_weight * ev.neutral_cost[i] * kCostScale))
+                    : kNeverCost;
       }
       e.active[c] = 1;
       const std::uint8_t own = ev.label[cell];
@@ -175,23 +181,11 @@ RefineResult refine(glass::CellEvidence& ev, const RefineOptions& options) {
           tbb::blocked_range<std::size_t>(0, tiles.size(), 1), Energies{},
           [&](const tbb::blocked_range<std::size_t>& r, Energies acc) {
             Worker& w = workers.local();
-            for (std::size_t k = r.begin(); k != r.end(); ++k) {
-              const Energies one = solveTile(tiles[k].first, tiles[k].second, w);
-              acc.before += one.before;
-              acc.after += one.after;
-              acc.tiles += one.tiles;
-            }
+            for (std::size_t k = r.begin(); k != r.end(); ++k) acc += solveTile(tiles[k].first, tiles[k].second, w);
             return acc;
           },
-          [](Energies a, const Energies& b) {
-            a.before += b.before;
-            a.after += b.after;
-            a.tiles += b.tiles;
-            return a;
-          });
-      sum.before += part.before;
-      sum.after += part.after;
-      sum.tiles += part.tiles;
+          [](Energies a, const Energies& b) { return a += b; });
+      sum += part;
     }
     result.tiles += sum.tiles;
     if (sweep == 0) result.energy_before = sum.before;

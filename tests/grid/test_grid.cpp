@@ -411,6 +411,34 @@ TEST(ScanIntegration, BeamFiltersHandOutTheBeamsOfTheirKindUnchanged) {
 }
 
 // The walk cursors count and find exactly what the grid's own calls do, across tile borders.
+TEST(ScanIntegration, BeamDirectionsFromTheLayoutTableAreTheBeamAngles) {
+  // Six layouts in turn (more than a thread keeps), each scan at its own heading: every beam's end
+  // lies along its angle within rounding, and a layout's table is the same one when it comes back.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> heading(-kPi, kPi), range(0.2, 25.0);
+  for (int round = 0; round < 3; ++round)
+    for (int layout = 0; layout < 6; ++layout) {
+      LaserScan scan;
+      scan.start_angle = -kPi / 2 - 0.1 * layout;
+      scan.angular_step = kPi / (90.0 + 10.0 * layout);
+      scan.max_range = 30.0;
+      scan.ranges.resize(static_cast<std::size_t>(91 + 10 * layout));
+      for (float& r : scan.ranges) r = static_cast<float>(range(rng));
+      scan.laser_pose = Pose2(Vec2(3.0 * layout, -1.5), heading(rng));
+      const auto table = beamDirections(scan);
+      ASSERT_EQ(table->cos.size(), scan.ranges.size());
+      EXPECT_EQ(beamDirections(scan), table);  // kept, not made again
+      std::size_t beams = 0;
+      forEachBeam(scan, BeamOptions{}, [&](const Beam& beam) {
+        const Vec2 expected = beam.from + beam.range * Vec2(std::cos(beam.angle), std::sin(beam.angle));
+        EXPECT_NEAR(beam.to.x(), expected.x(), 1e-12 * (1.0 + beam.range));
+        EXPECT_NEAR(beam.to.y(), expected.y(), 1e-12 * (1.0 + beam.range));
+        ++beams;
+      });
+      EXPECT_EQ(beams, scan.ranges.size());
+    }
+}
+
 TEST(ScanIntegration, CursorsEqualTheGridsOwnLookups) {
   GridGeometry g = smallGrid();
   g.width = 100;
