@@ -169,30 +169,6 @@ void searchLobe(const LaserLog& log, const MapOptions& options, const SensorProf
   }
 }
 
-// A fitted lobe too wide (MapOptions::max_lobe_sigma_deg) or too faint (min_lobe_peak) for glass
-// gives way to the prior's.
-void keepPlausibleLobe(const MapOptions& options, const SensorProfile& prior, sensor::CalibrationResult& fit) {
-  SensorProfile& p = fit.profile;
-  if (!p.direct_sigma_deg.fitted) return;
-  const bool wide = p.direct_sigma_deg.value - 2.0 * p.direct_sigma_deg.se > options.max_lobe_sigma_deg;
-  const bool faint = p.direct_peak.value + 2.0 * p.direct_peak.se < options.min_lobe_peak;
-  if (!wide && !faint) return;
-  char why[64];
-  if (wide)
-    std::snprintf(why, sizeof why, "wider than glass shows (at most %.0f deg)", options.max_lobe_sigma_deg);
-  else
-    std::snprintf(why, sizeof why, "fainter than glass shows (a peak of at least %.2f)", options.min_lobe_peak);
-  char what[320];
-  std::snprintf(what, sizeof what,
-                "the fitted glass lobe (peak %.3f +- %.3f, sigma %.1f +- %.1f deg) is %s: what the first pass took "
-                "for panes is likely not glass; the map keeps the prior lobe",
-                p.direct_peak.value, p.direct_peak.se, p.direct_sigma_deg.value, p.direct_sigma_deg.se, why);
-  fit.warnings.push_back(what);
-  p.direct_peak = prior.direct_peak;
-  p.direct_sigma_deg = prior.direct_sigma_deg;
-  p.direct_floor = prior.direct_floor;
-}
-
 // A refitted lobe within one standard error of the last in peak, sigma and floor (a lobe that is
 // not fitted is settled where it was).
 bool lobeSettled(const SensorProfile& last, const SensorProfile& refit) {
@@ -233,6 +209,31 @@ void countSegments(const VectorMap& plan, std::size_t& walls, std::size_t& panes
 }
 
 }  // namespace
+
+bool keepPlausibleLobe(const MapOptions& options, const SensorProfile& prior, sensor::CalibrationResult& fit) {
+  SensorProfile& p = fit.profile;
+  if (!p.direct_sigma_deg.fitted) return true;
+  const double sigma = p.direct_sigma_deg.value;
+  const bool wide = sigma - 2.0 * p.direct_sigma_deg.se > options.max_lobe_sigma_deg &&
+                    sigma > options.max_lobe_sigma_deg * (1.0 + options.max_lobe_sigma_bias);
+  const bool faint = p.direct_peak.value + 2.0 * p.direct_peak.se < options.min_lobe_peak;
+  if (!wide && !faint) return true;
+  char why[64];
+  if (wide)
+    std::snprintf(why, sizeof why, "wider than glass shows (at most %.0f deg)", options.max_lobe_sigma_deg);
+  else
+    std::snprintf(why, sizeof why, "fainter than glass shows (a peak of at least %.2f)", options.min_lobe_peak);
+  char what[320];
+  std::snprintf(what, sizeof what,
+                "the fitted glass lobe (peak %.3f +- %.3f, sigma %.1f +- %.1f deg) is %s: what the first pass took "
+                "for panes is likely not glass; the map keeps the prior lobe",
+                p.direct_peak.value, p.direct_peak.se, p.direct_sigma_deg.value, p.direct_sigma_deg.se, why);
+  fit.warnings.push_back(what);
+  p.direct_peak = prior.direct_peak;
+  p.direct_sigma_deg = prior.direct_sigma_deg;
+  p.direct_floor = prior.direct_floor;
+  return false;
+}
 
 const char* toString(MapMethod method) {
   switch (method) {

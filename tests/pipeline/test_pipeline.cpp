@@ -215,6 +215,33 @@ TEST(Pipeline, ApplyProfileKeepsWhatTheCallerSet) {
   EXPECT_DOUBLE_EQ(precise.scan_fit.reach, MapOptions{}.scan_fit.reach);
 }
 
+// Simulated 20 deg lobes fit 20.1-21.2 deg with standard errors of 0.1 deg: a lobe as wide as
+// glass shows is kept on every log, not only where its fit happens to read low; fits far wider
+// (Freiburg 079's door frames: 26.2 +- 2.7 deg) and faint ones give way to the prior.
+TEST(Pipeline, ALobeAsWideAsGlassShowsIsKeptWhateverItsFitReads) {
+  const MapOptions o;
+  const SensorProfile prior;
+  const auto kept = [&](double sigma, double se, double peak = 0.89) {
+    sensor::CalibrationResult fit;
+    fit.profile.direct_sigma_deg = {sigma, se, true};
+    fit.profile.direct_peak = {peak, 0.002, true};
+    fit.profile.direct_floor = {0.15, 0.002, true};
+    const bool keep = keepPlausibleLobe(o, prior, fit);
+    EXPECT_EQ(fit.warnings.empty(), keep) << sigma;
+    EXPECT_DOUBLE_EQ(fit.profile.direct_sigma_deg.value, keep ? sigma : prior.direct_sigma_deg.value) << sigma;
+    EXPECT_DOUBLE_EQ(fit.profile.direct_floor.value, keep ? 0.15 : prior.direct_floor.value) << sigma;
+    return keep;
+  };
+  for (const double sigma : {2.0, 12.3, 19.4, 20.0, 20.2, 21.2, 22.0}) EXPECT_TRUE(kept(sigma, 0.1)) << sigma;
+  EXPECT_TRUE(kept(23.0, 2.0));        // not wider than 20 deg beyond its errors
+  EXPECT_FALSE(kept(22.5, 0.1));       // beyond the errors and the fit's bias
+  EXPECT_FALSE(kept(26.2, 2.7));       // Freiburg 079's
+  EXPECT_FALSE(kept(8.0, 0.5, 0.01));  // too faint for glass
+  sensor::CalibrationResult none;      // no lobe fitted: nothing to judge
+  EXPECT_TRUE(keepPlausibleLobe(o, prior, none));
+  EXPECT_TRUE(none.warnings.empty());
+}
+
 TEST(Pipeline, MapFilesReadBackAsTheResult) {
   const MapResult& r = defaultMap();
   const fs::path dir = fs::temp_directory_path() / ("glassmap_pipeline_" + std::to_string(::getpid()));
