@@ -117,6 +117,11 @@ struct Line {
 struct Scratch {
   std::vector<std::size_t> cells;
   std::vector<std::pair<double, std::uint32_t>> along;  // (position along the line, return)
+  // For runCount: per bucket along the line the least and greatest position, and per return the
+  // last count that took it (a return may be collected twice).
+  std::vector<double> bucket_lo, bucket_hi;
+  std::vector<std::uint32_t> taken;
+  std::uint32_t stamp = 0;
 };
 
 // The map's labels, the map frame in the grid's, and where the returns' origin lies in the map.
@@ -124,10 +129,11 @@ struct FreeSpace {
   const LabelGrid* grid = nullptr;
   Pose2 to_grid;
   Eigen::Vector2d shift = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d rotation = to_grid.rotation();  // to_grid's, made once: the walks ask millions of cells
 
   // The cell (x, y) holding p (relative to the returns' origin), false outside the grid.
   bool cellOf(const Eigen::Vector2d& p, int& x, int& y) const {
-    const Eigen::Vector2d q = (to_grid * Vec2(shift + p) - grid->origin) / grid->resolution;
+    const Eigen::Vector2d q = (to_grid.t + rotation * Vec2(shift + p) - grid->origin) / grid->resolution;
     if (!(q.x() >= 0 && q.y() >= 0 && q.x() < grid->width && q.y() < grid->height)) return false;
     x = static_cast<int>(q.x()), y = static_cast<int>(q.y());
     return true;
@@ -152,18 +158,15 @@ struct FreeSpace {
   }
 };
 
-// The live returns within o.tolerance of the line through c along d, the contiguous run that
-// holds the return nearest to c: no gap over o.max_gap between its returns, and the line does
-// not cross free space (cells seen empty) for more than o.max_free, since a surface lies where
-// the beams ended, not where they passed. Walked outward from c, the returns' cells every half
-// cell, the labels every half grid cell.
-Line walkLine(const Returns& r, const Eigen::Vector2d& c, const Eigen::Vector2d& d, const ScanClutterOptions& o,
-              const FreeSpace& free_space, Scratch& s, double max_length) {
+// walkLine's walk: the live returns within the tolerance into s.along (a return may come twice),
+// and how far the line may run back (limit[0]) and forth (limit[1]) from c.
+void collectAlong(const Returns& r, const Eigen::Vector2d& c, const Eigen::Vector2d& d, const ScanClutterOptions& o,
+                  const FreeSpace& free_space, Scratch& s, double max_length, double limit[2]) {
   const Eigen::Vector2d n(-d.y(), d.x());
   const double cell_step = 0.5 * r.cell(), diag = r.cell() * std::sqrt(2.0);
   const double free_step = free_space.grid ? std::min(cell_step, 0.5 * free_space.grid->resolution) : cell_step;
   s.along.clear();
-  double limit[2] = {max_length, max_length};  // how far the line may run back (0) and forth (1) from c
+  limit[0] = limit[1] = max_length;
   for (const double sign : {-1.0, 1.0}) {
     double& end = limit[sign > 0 ? 1 : 0];
     s.cells.clear();
@@ -201,6 +204,25 @@ Line walkLine(const Returns& r, const Eigen::Vector2d& c, const Eigen::Vector2d&
       }
     }
   }
+}
+
+// The count of the line through c along d (what walkLine's Line::count would be) without sorting
+// the returns: the runs are told apart by the least and greatest position in buckets of half the
+// longest gap along the line (no gap within a bucket can break a run), so the run holding the
+// return nearest to c joins the next non-empty bucket exactly when walkLine's sorted neighbours
+// would. fitAtSeed asks it of every orientation; only the best few are walked in full.
+std::size_t runCount(const Returns& r, const Eigen::Vector2d& c, const Eigen::Vector2d& d, const ScanClutterOptions& o,
+                     const FreeSpace& free_space, Scratch& s, double max_length);
+
+// The live returns within o.tolerance of the line through c along d, the contiguous run that
+// holds the return nearest to c: no gap over o.max_gap between its returns, and the line does
+// not cross free space (cells seen empty) for more than o.max_free, since a surface lies where
+// the beams ended, not where they passed. Walked outward from c, the returns' cells every half
+// cell, the labels every half grid cell.
+Line walkLine(const Returns& r, const Eigen::Vector2d& c, const Eigen::Vector2d& d, const ScanClutterOptions& o,
+              const FreeSpace& free_space, Scratch& s, double max_length) {
+  double limit[2];
+  collectAlong(r, c, d, o, free_space, s, max_length, limit);
   Line out;
   std::sort(s.along.begin(), s.along.end());
   s.along.erase(std::unique(s.along.begin(), s.along.end()), s.along.end());
@@ -223,6 +245,56 @@ Line walkLine(const Returns& r, const Eigen::Vector2d& c, const Eigen::Vector2d&
     out.count += r.weight(k->second);
   }
   return out;
+}
+
+std::size_t runCount(const Returns& r, const Eigen::Vector2d& c, const Eigen::Vector2d& d, const ScanClutterOptions& o,
+                     const FreeSpace& free_space, Scratch& s, double max_length) {
+  if (!(o.max_gap > 0.0)) return walkLine(r, c, d, o, free_space, s, max_length).count;
+  double limit[2];
+  collectAlong(r, c, d, o, free_space, s, max_length, limit);
+  const double width = 0.5 * o.max_gap;
+  const std::size_t buckets = static_cast<std::size_t>(std::ceil((limit[0] + limit[1]) / width)) + 1;
+  s.bucket_lo.assign(buckets, std::numeric_limits<double>::infinity());
+  s.bucket_hi.assign(buckets, -std::numeric_limits<double>::infinity());
+  // The return nearest to c, as walkLine's scan of the sorted returns finds it: the least |t|,
+  // then the least t, then the least index.
+  const std::pair<double, std::uint32_t>* near = nullptr;
+  const auto bucketOf = [&](double t) {
+    return std::min(buckets - 1, static_cast<std::size_t>((t + limit[0]) / width));
+  };
+  for (const auto& e : s.along) {
+    if (e.first < -limit[0] || e.first > limit[1]) continue;
+    const std::size_t b = bucketOf(e.first);
+    s.bucket_lo[b] = std::min(s.bucket_lo[b], e.first);
+    s.bucket_hi[b] = std::max(s.bucket_hi[b], e.first);
+    if (!near || std::abs(e.first) < std::abs(near->first) || (std::abs(e.first) == std::abs(near->first) && e < *near))
+      near = &e;
+  }
+  if (!near) return 0;
+  const std::size_t home = bucketOf(near->first);
+  double lo = s.bucket_lo[home], hi = s.bucket_hi[home];
+  for (std::size_t b = home; b-- > 0;) {
+    if (s.bucket_hi[b] < s.bucket_lo[b]) continue;  // empty
+    if (lo - s.bucket_hi[b] > o.max_gap) break;
+    lo = s.bucket_lo[b];
+  }
+  for (std::size_t b = home + 1; b < buckets; ++b) {
+    if (s.bucket_hi[b] < s.bucket_lo[b]) continue;
+    if (s.bucket_lo[b] - hi > o.max_gap) break;
+    hi = s.bucket_hi[b];
+  }
+  if (s.taken.size() != r.size()) s.taken.assign(r.size(), 0);
+  if (++s.stamp == 0) {  // the stamps wrapped: start again
+    std::fill(s.taken.begin(), s.taken.end(), 0);
+    s.stamp = 1;
+  }
+  std::size_t count = 0;
+  for (const auto& [t, i] : s.along)
+    if (t >= lo && t <= hi && s.taken[i] != s.stamp) {
+      s.taken[i] = s.stamp;
+      count += r.weight(i);
+    }
+  return count;
 }
 
 // Mean offset across the line of a run's returns, and their principal axis.
@@ -277,12 +349,13 @@ Line fitAtSeed(const Returns& r, std::size_t seed, const ScanClutterOptions& o, 
   std::pair<std::size_t, int> top[2] = {{0, -1}, {0, -1}};
   for (int k = 0; k < steps; ++k) {
     const double theta = kPi * k / steps;
-    const Line line = walkLine(r, c0, Eigen::Vector2d(std::cos(theta), std::sin(theta)), o, free_space, s, kProbe);
-    if (line.count > top[0].first) {
+    const std::size_t count =
+        runCount(r, c0, Eigen::Vector2d(std::cos(theta), std::sin(theta)), o, free_space, s, kProbe);
+    if (count > top[0].first) {
       top[1] = top[0];
-      top[0] = {line.count, k};
-    } else if (line.count > top[1].first) {
-      top[1] = {line.count, k};
+      top[0] = {count, k};
+    } else if (count > top[1].first) {
+      top[1] = {count, k};
     }
   }
   for (const auto& [count, k] : top) {
