@@ -206,14 +206,6 @@ void collectAlong(const Returns& r, const Eigen::Vector2d& c, const Eigen::Vecto
   }
 }
 
-// The count of the line through c along d (what walkLine's Line::count would be) without sorting
-// the returns: the runs are told apart by the least and greatest position in buckets of half the
-// longest gap along the line (no gap within a bucket can break a run), so the run holding the
-// return nearest to c joins the next non-empty bucket exactly when walkLine's sorted neighbours
-// would. fitAtSeed asks it of every orientation; only the best few are walked in full.
-std::size_t runCount(const Returns& r, const Eigen::Vector2d& c, const Eigen::Vector2d& d, const ScanClutterOptions& o,
-                     const FreeSpace& free_space, Scratch& s, double max_length);
-
 // The live returns within o.tolerance of the line through c along d, the contiguous run that
 // holds the return nearest to c: no gap over o.max_gap between its returns, and the line does
 // not cross free space (cells seen empty) for more than o.max_free, since a surface lies where
@@ -247,6 +239,11 @@ Line walkLine(const Returns& r, const Eigen::Vector2d& c, const Eigen::Vector2d&
   return out;
 }
 
+// The count of the line through c along d (what walkLine's Line::count would be) without sorting
+// the returns: the runs are told apart by the least and greatest position in buckets of half the
+// longest gap along the line (no gap within a bucket can break a run), so the run holding the
+// return nearest to c joins the next non-empty bucket exactly when walkLine's sorted neighbours
+// would. fitAtSeed asks it of every orientation; only the best few are walked in full.
 std::size_t runCount(const Returns& r, const Eigen::Vector2d& c, const Eigen::Vector2d& d, const ScanClutterOptions& o,
                      const FreeSpace& free_space, Scratch& s, double max_length) {
   if (!(o.max_gap > 0.0)) return walkLine(r, c, d, o, free_space, s, max_length).count;

@@ -114,8 +114,8 @@ struct MapOptions {
   /// and says so among the calibration warnings; a profile given with --sensor is used as is.
   double max_lobe_sigma_deg = 20.0;
   /// How far above the truth the lobe fit reads on lasers whose lobe is that wide, as a share of
-  /// max_lobe_sigma_deg: simulated 20 deg lobes with a floor of 0.15 fit 20.2-21.2 deg with standard
-  /// errors of 0.1 deg (sick-tim571 on three scenes), so the standard errors alone dropped a true
+  /// max_lobe_sigma_deg: simulated 20 deg lobes with a floor of 0.15 fit 20.1-21.2 deg with standard
+  /// errors of 0.1 deg (sick-tim571 on four scenes), so the standard errors alone dropped a true
   /// 20 deg lobe on some logs and not on others (office-floor mapped with the MRF: 0.966 against the
   /// fitted lobe's 0.999) [-].
   double max_lobe_sigma_bias = 0.1;
