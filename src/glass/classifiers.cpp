@@ -161,16 +161,13 @@ SigmoidSums integrateSigmoid(const LaserLog& log, const grid::BeamOptions& beams
   const double res = g.resolution;
   const int bins = hist.bins();
   // Occupied cells of the standard map (l > l_occupied) all have hits, so all are candidates:
-  // one flag per candidate answers "occupied?" in the hot loop.
+  // one flag per candidate answers "occupied?" in the hot loop. Tiles of 4 x 4 cells near
+  // candidates: the walks skip the open space between them.
   std::vector<std::uint8_t> occupied(hist.size());
-  for (std::size_t i = 0; i < hist.size(); ++i) {
-    const auto c = g.cellOf(hist.cell(static_cast<std::int32_t>(i)));
-    occupied[i] = occ.occupied(counts.get(c.x, c.y)) ? 1 : 0;
-  }
-  // Tiles of 4 x 4 cells near candidates: the walks skip the open space between them.
   detail::MarkedTiles near_candidates(g, 4);
   for (std::size_t i = 0; i < hist.size(); ++i) {
     const auto c = g.cellOf(hist.cell(static_cast<std::int32_t>(i)));
+    occupied[i] = occ.occupied(counts.get(c.x, c.y)) ? 1 : 0;
     near_candidates.mark(c.x, c.y);
   }
   const double search = o.search_cells * res;
