@@ -35,8 +35,8 @@ struct Run {
   Line line;
   double s0 = 0.0, s1 = 0.0;
   std::vector<std::size_t> returns;
-  double log10_nfa = 0.0;     // expected false alarms of a run like it, log10
-  double transmission = 0.0;  // share of the beams meeting it that passed
+  double log10_nfa = 0.0;                   // expected false alarms of a run like it, log10
+  double transmission = 0.0;                // share of the beams meeting it that passed
   sparse::ScanCoherence by_scan, by_visit;  // its near-normal beams within scans and within visits
   Vec2 end(double s) const { return line.rho * line.normal() + s * line.tangent(); }
 };
@@ -168,12 +168,14 @@ struct RunTiles {
   }
 };
 
-// Per run: returned beams that pass the run and end at least `beyond` past it, and beams that
+// Per run: beams that pass the run (returned beams that end at least `beyond` past it, beams
+// without an echo within the cap that meet it before any occupied cell of `e`), and beams that
 // return on it (within `band`) or just behind it; and those of them within tol_a of its normal
 // that returned on it or passed it (no echo counts as passing), with their scans.
 template <class Beyond>
-void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const std::vector<Run>& runs, double band,
-                    double tol_a, Beyond&& beyond_at, std::vector<std::uint64_t>& pass, std::vector<std::uint64_t>& hit,
+void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const CellEvidence& e,
+                    const std::vector<Run>& runs, double band, double tol_a, Beyond&& beyond_at,
+                    std::vector<std::uint64_t>& pass, std::vector<std::uint64_t>& hit,
                     std::vector<sparse::NearNormalBeam>& near) {
   struct Tally {
     std::vector<std::uint64_t> pass, hit;
@@ -196,6 +198,7 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const s
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
       const double beyond = beyond_at(beam.range);
       const double direction = wrapPi(beam.angle);
+      double clear = -1.0;  // a beam without an echo: where it meets the first occupied cell (once)
       if (++t.beam == 0) {  // the stamps wrapped: start again
         std::fill(t.seen.begin(), t.seen.end(), 0u);
         t.beam = 1;
@@ -211,11 +214,16 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const s
         };
         if (!beam.hit) {
           // No echo within the cap (nothing in range behind the run, or a dropout): the run did not
-          // answer it. Only the near-normal tally counts it; leaving it out would make the scans
-          // whose passing beams find nothing in range look as if every near-normal beam returned.
+          // answer it. It passed the run when it met no wall first (a wall's dropouts stop there).
+          // The near-normal tally counts it too; leaving it out would make the scans whose passing
+          // beams find nothing in range look as if every near-normal beam returned.
           if ((f > 0) != (g > 0)) {
-            const double along = tg.dot(beam.from + (f / (f - g)) * (beam.to - beam.from));
-            if (along >= runs[r].s0 && along <= runs[r].s1) nearNormal(false);
+            const double at = f / (f - g);
+            const double along = tg.dot(beam.from + at * (beam.to - beam.from));
+            if (along < runs[r].s0 || along > runs[r].s1) return;
+            nearNormal(false);
+            if (clear < 0.0) clear = sparse::clearUntil(e.geometry, e.label, beam.from, beam.to);
+            if (at < clear) ++t.pass[r];
           }
           return;
         }
@@ -384,8 +392,8 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
   std::vector<std::uint64_t> pass, hit;
   std::vector<sparse::NearNormalBeam> near;
   countCrossings(
-      log, beams, runs, tol_r, tol_a, [&](double range) { return std::max(o.beyond, 5.0 * sigmaAt(range)); }, pass, hit,
-      near);
+      log, beams, e, runs, tol_r, tol_a, [&](double range) { return std::max(o.beyond, 5.0 * sigmaAt(range)); }, pass,
+      hit, near);
   const std::vector<sparse::ScanCoherence> coherence =
       sparse::scanCoherence(near, runs.size(), deg2rad(o.lobe_bin_deg));
   const std::vector<sparse::ScanCoherence> by_visit =
@@ -443,9 +451,8 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     }
     ++stats.panes;
     stats.metres += run.s1 - run.s0;
-    stats.found.push_back(
-        {run.end(run.s0), run.end(run.s1), run.returns.size(), run.log10_nfa, run.transmission, run.by_scan,
-         run.by_visit});
+    stats.found.push_back({run.end(run.s0), run.end(run.s1), run.returns.size(), run.log10_nfa, run.transmission,
+                           run.by_scan, run.by_visit});
     for (std::size_t i : to_draw[r]) {
       if (e.label[i] != kEmpty) continue;  // an earlier pane drew it
       e.label[i] = labelOf(run);

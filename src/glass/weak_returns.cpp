@@ -48,13 +48,16 @@ class UndecidedTiles {
 };
 
 // Which of `cells` (linear cell indices, ascending) are passed by most beams: at least
-// o.min_through returned beams cross the cell and end at least o.through_margin beyond it, and the
-// returned beams whose walk ends there (hits, per cell) are at most o.max_hit_ratio of those and these. The test
-// holds for good once a cell's passes are enough, so a cell is decided then and the beams that
-// cross only decided cells' tiles are not walked; the answer is that of counting every beam.
+// o.min_through beams cross the cell (returned beams that end at least o.through_margin beyond it;
+// beams without an echo within the cap, before the first occupied cell of `label` they meet), and
+// the returned beams whose walk ends there (hits, per cell) are at most o.max_hit_ratio of those
+// and these. A pane with nothing in range behind it (a facade over open ground) is passed by beams
+// that bring no echo back; a wall's dropouts stop at the wall. The test holds for good once a
+// cell's passes are enough, so a cell is decided then and the beams that cross only decided cells'
+// tiles are not walked; the answer is that of counting every beam.
 std::vector<std::uint8_t> passedCells(const LaserLog& log, const grid::BeamOptions& beams, const SparsePaneOptions& o,
-                                      const grid::GridGeometry& g, const std::vector<std::uint32_t>& cells,
-                                      const std::vector<std::uint32_t>& hits) {
+                                      const grid::GridGeometry& g, const std::vector<std::uint8_t>& label,
+                                      const std::vector<std::uint32_t>& cells, const std::vector<std::uint32_t>& hits) {
   const std::size_t n = cells.size();
   const detail::CandidateIndex slot(g, cells);
   const auto holds = [&](std::size_t k, std::uint32_t passes) {
@@ -76,19 +79,30 @@ std::vector<std::uint8_t> passedCells(const LaserLog& log, const grid::BeamOptio
   grid::forScansInParallel(log, {}, unused, [&](const LaserScan& scan, std::size_t, int&) {
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
       double from = 0.0;
-      if (!beam.hit || !undecided.near(beam.from, beam.to, &from)) return;
+      if (!undecided.near(beam.from, beam.to, &from)) return;
+      auto pass = [&](int x, int y) {
+        const std::int64_t found = slot.find(x, y);
+        if (found < 0) return;
+        const auto k = static_cast<std::size_t>(found);
+        if (decided[k].load(std::memory_order_relaxed)) return;
+        const std::uint32_t p = passes[k].fetch_add(1, std::memory_order_relaxed) + 1;
+        if (holds(k, p) && decided[k].exchange(1, std::memory_order_relaxed) == 0) undecided.remove(x, y);
+      };
+      if (!beam.hit) {
+        // No echo within the cap: every cell before the first occupied one (so from the start).
+        grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool) {
+          if (label[g.index(x, y)] == kOccupied) return false;
+          pass(x, y);
+          return true;
+        });
+        return;
+      }
       const double pass_until = beam.range - o.through_margin;
       // From an undecided cell's tile on: the cells before it are decided or no candidates.
       grid::traverse(
           g, beam.from, beam.to,
           [&](int x, int y, double enter, bool last) {
-            if (last || !(enter * beam.range < pass_until)) return;
-            const std::int64_t found = slot.find(x, y);
-            if (found < 0) return;
-            const auto k = static_cast<std::size_t>(found);
-            if (decided[k].load(std::memory_order_relaxed)) return;
-            const std::uint32_t p = passes[k].fetch_add(1, std::memory_order_relaxed) + 1;
-            if (holds(k, p) && decided[k].exchange(1, std::memory_order_relaxed) == 0) undecided.remove(x, y);
+            if (!last && enter * beam.range < pass_until) pass(x, y);
           },
           from);
     });
@@ -99,6 +113,16 @@ std::vector<std::uint8_t> passedCells(const LaserLog& log, const grid::BeamOptio
 }
 
 }  // namespace
+
+double clearUntil(const grid::GridGeometry& g, const std::vector<std::uint8_t>& label, const Vec2& a, const Vec2& b) {
+  double t = 1.0;
+  grid::traverse(g, a, b, [&](int x, int y, double enter, bool) {
+    if (label[g.index(x, y)] != kOccupied) return true;
+    t = enter;
+    return false;
+  });
+  return t;
+}
 
 WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, const SparsePaneOptions& o,
                          const CellEvidence& e)
@@ -123,28 +147,28 @@ WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, co
   const detail::CandidateIndex candidate(e);
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> hit_parts(
       [&] { return std::vector<std::uint32_t>(e.cells.size(), 0); });
-  grid::forScansInParallel(log, {}, hit_parts, [&](const LaserScan& scan, std::size_t index,
-                                                   std::vector<std::uint32_t>& hits) {
-    // Beyond this range a beam is wider than max_footprint cells: a cell's returns and passes then
-    // mix the surfaces the beam grazes.
-    const double max_range = o.max_footprint * g.resolution / std::max(std::abs(scan.angular_step), 1e-6);
-    std::vector<Candidate>& out = per_scan[index];
-    grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      if (!beam.hit) return;
-      grid::CellIndex end;
-      if (grid::lastCell(g, beam.from, beam.to, end)) {
-        const std::int64_t id = candidate.find(end.x, end.y);
-        if (id >= 0) ++hits[static_cast<std::size_t>(id)];
-      }
-      if (beam.range < o.min_range || beam.range > max_range) return;
-      const auto cell = static_cast<std::uint32_t>(g.index(g.cellAt(beam.to)));
-      if (wall_distance[cell] * g.resolution <= least_clearance) return;
-      if (e.candidate(cell) < 0) return;
-      const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
-      if (wall_distance[cell] * g.resolution <= std::max(o.wall_clearance, 3.0 * sigma)) return;
-      out.push_back({beam.to, beam.from, beam.angle, cell});
-    });
-  });
+  grid::forScansInParallel(
+      log, {}, hit_parts, [&](const LaserScan& scan, std::size_t index, std::vector<std::uint32_t>& hits) {
+        // Beyond this range a beam is wider than max_footprint cells: a cell's returns and passes then
+        // mix the surfaces the beam grazes.
+        const double max_range = o.max_footprint * g.resolution / std::max(std::abs(scan.angular_step), 1e-6);
+        std::vector<Candidate>& out = per_scan[index];
+        grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
+          if (!beam.hit) return;
+          grid::CellIndex end;
+          if (grid::lastCell(g, beam.from, beam.to, end)) {
+            const std::int64_t id = candidate.find(end.x, end.y);
+            if (id >= 0) ++hits[static_cast<std::size_t>(id)];
+          }
+          if (beam.range < o.min_range || beam.range > max_range) return;
+          const auto cell = static_cast<std::uint32_t>(g.index(g.cellAt(beam.to)));
+          if (wall_distance[cell] * g.resolution <= least_clearance) return;
+          if (e.candidate(cell) < 0) return;
+          const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
+          if (wall_distance[cell] * g.resolution <= std::max(o.wall_clearance, 3.0 * sigma)) return;
+          out.push_back({beam.to, beam.from, beam.angle, cell});
+        });
+      });
   std::vector<Candidate> candidates;
   for (std::vector<Candidate>& c : per_scan) {
     candidates.insert(candidates.end(), c.begin(), c.end());
@@ -158,7 +182,7 @@ WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, co
   std::vector<std::uint32_t> hits(cells.size(), 0);
   for (const std::vector<std::uint32_t>& part : hit_parts)
     for (std::size_t k = 0; k < cells.size(); ++k) hits[k] += part[static_cast<std::size_t>(e.candidate(cells[k]))];
-  const std::vector<std::uint8_t> passed = passedCells(log, beams, o, g, cells, hits);
+  const std::vector<std::uint8_t> passed = passedCells(log, beams, o, g, e.label, cells, hits);
   for (const Candidate& r : candidates) {
     const auto k = static_cast<std::size_t>(std::lower_bound(cells.begin(), cells.end(), r.cell) - cells.begin());
     if (passed[k]) returns_.push_back({r.at, r.from, std::min(wrapPi(r.angle), std::nextafter(kPi, 0.0)), r.cell});

@@ -36,6 +36,11 @@ inline int wrapBin(int b) { return (b % kAngleBins + kAngleBins) % kAngleBins; }
 /// Glass cells of `label` in the (2 r + 1)^2 block around (x, y).
 int glassInBlock(const grid::GridGeometry& g, const std::vector<std::uint8_t>& label, int x, int y, int r);
 
+/// The parameter t in [0, 1] of segment a -> b where it enters the first occupied cell of `label`
+/// (over grid g), or 1 when it meets none: how far a beam without an echo is known to have gone (a
+/// wall's dropouts stop at the wall).
+double clearUntil(const grid::GridGeometry& g, const std::vector<std::uint8_t>& label, const Vec2& a, const Vec2& b);
+
 /// A return from a cell most beams pass, and the direction it came along (its pane's normal).
 struct WeakReturn {
   Vec2 at;             ///< the reading [m]

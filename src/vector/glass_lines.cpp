@@ -268,9 +268,6 @@ void glassPiecesByVoting(const CellCloud& cloud, const MaterialOptions& mo, cons
       Piece p;
       for (std::size_t k = lo; k < hi; ++k) p.ids.push_back(along[k].second);
       refit(p, cloud, Material::Glass, ctx);
-      // Fewer than one such line expected by chance in a hundred maps, or dropped.
-      const bool meaningful = log10FalseAlarms(p, cloud, mo.max_distance, ctx.opt.glass_background_ring, cos_max,
-                                               log10_tests) < ctx.opt.glass_log10_false_alarms;
       // A pane seen at a slant or by a noisy laser is a band a few cells thick: the cells just
       // outside the fitted band belong to it too and must not vote for a parallel twin; a blob
       // that a line was drawn through shows its width here.
@@ -285,8 +282,13 @@ void glassPiecesByVoting(const CellCloud& cloud, const MaterialOptions& mo, cons
         acc.vote(cloud.points[i], phi[i], -1);
         p.ids.push_back(i);
       }
-      // Its thickness (and so its elongation, which tells a pane from a blob) counts them too.
+      // Its thickness (and so its elongation, which tells a pane from a blob) counts them too, and
+      // so does the test below: a short pane beyond a long one on nearly the same line gives the
+      // long line only the cells its band reaches, and the others fall in its shadow.
       refit(p, cloud, Material::Glass, ctx);
+      // Fewer than one such line expected by chance in a hundred maps, or dropped.
+      const bool meaningful = log10FalseAlarms(p, cloud, mo.max_distance, ctx.opt.glass_background_ring, cos_max,
+                                               log10_tests) < ctx.opt.glass_log10_false_alarms;
       if (meaningful) {
         out.push_back(std::move(p));
       } else {

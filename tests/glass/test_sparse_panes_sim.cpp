@@ -118,7 +118,7 @@ TEST(SparsePanes, PeopleWalkingByAreNotPanes) {
     const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, e);
     SparsePaneOptions no_test = so;
     no_test.min_transient_correlation = 2.0;  // above any correlation: the transient test never rejects
-    no_test.max_visit_gap_s = 0.0;             // nor the one by visit
+    no_test.max_visit_gap_s = 0.0;            // nor the one by visit
     const SparsePaneStats s0 = findSparsePanes(c.log, c.options.beams, no_test, without);
     const std::vector<double> panes = glass ? std::vector<double>{0.0, 2.4} : std::vector<double>{};
     const GlassCount before = countGlass(c.mapped.evidence, panes, 2, 14);
@@ -139,6 +139,56 @@ TEST(SparsePanes, PeopleWalkingByAreNotPanes) {
       EXPECT_LT(with.off - before.off, with.on / 20);  // and little is drawn elsewhere
     } else {
       EXPECT_LT(s.metres, 1.0);
+    }
+  }
+}
+
+// A room whose south side (y = 0, x 2..14) is a facade over open ground: nothing behind it within
+// the laser's range (cut to 5 m, so that the room's mirror images in the facade are out of range
+// too), and a laser without random readings, so the beams through it bring no echo back. Its weak
+// returns' cells are passed only by such beams; they count, up to the first wall a beam meets.
+// With a wall for the facade (glass false) the beams it drops stop there.
+sim::Scene facadeRoom(bool glass) {
+  sim::Scene scene;
+  VectorMap& m = scene.map;
+  testing::addPolyline(m, {{2, 0}, {0, 0}, {0, 8}, {16, 8}, {16, 0}, {14, 0}});
+  m.add({2, 0}, {14, 0}, glass ? Material::Glass : Material::Wall);
+  for (const Vec2& b : {Vec2(4, 5), Vec2(10, 5.5)}) testing::addBox(m, b, b + Vec2(1.2, 0.6));
+  scene.trajectory.waypoints = {{0.8, 1.5}, {15.2, 1.5}};
+  scene.trajectory.round_trip = true;
+  sim::applySensorProfile(scene, sim::sensorProfile("rplidar-a2"));
+  scene.laser.rate = 10.0;
+  scene.laser.max_range = 5.0;
+  scene.laser.random_rate = 0.0;
+  return scene;
+}
+
+TEST(SparsePanes, FindsAFacadeWithNothingInRangeBehindIt) {
+  for (const bool glass : {true, false}) {
+    const sim::Scene scene = facadeRoom(glass);
+    testing::Classified c = testing::simulateAndClassify(scene);
+    CellEvidence& e = c.mapped.evidence;
+    const GlassCount before = countGlass(e, {0.0}, 2, 14);
+    SparsePaneOptions so;
+    so.range_sigma = 0.005;
+    so.range_sigma_rel = 0.01;
+    const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, e);
+    const GlassCount after = countGlass(e, {0.0}, 2, 14);
+    std::printf(
+        "%s: classifier %zu pane cells, %zu elsewhere; sparse panes %zu (%.1f m), %zu pane cells, %zu elsewhere "
+        "(%zu weak returns, %zu runs; rejected %zu chance, %zu opaque)\n",
+        glass ? "glass facade" : "wall", before.on, before.off, s.panes, s.metres, after.on, after.off, s.weak_returns,
+        s.runs_tested, s.rejected_chance, s.rejected_opaque);
+    if (glass) {
+      // 12 m of facade: 240 cells along its line.
+      EXPECT_LT(before.on, 60u);
+      EXPECT_GT(after.on, 180u);
+      EXPECT_GT(s.metres, 9.0);
+      EXPECT_LT(s.metres, 13.0);
+      EXPECT_LT(after.off - before.off, (after.on - before.on) / 20);
+    } else {
+      EXPECT_EQ(s.panes, 0u);
+      EXPECT_EQ(after.on + after.off, before.on + before.off);
     }
   }
 }

@@ -110,6 +110,38 @@ TEST(GlassLines, AShortBiasedTailContinuesItsPane) {
     EXPECT_LT(std::max((s.a - start).dot(d), (s.b - start).dot(d)), 3.1) << "joined across a door";
 }
 
+// A facade at 81.4 deg in a 60 m x 40 m map: a pane 32 m long drawn as a band of cells (a faint
+// pane the sparse-pane search found, and the classifiers' cells beside it), and past a gap of
+// 1.3 m, a stretch the classifiers found on its own, 1.8 m of cells one or two wide in two normal
+// bins (the cells and bins of a simulated noisy laser's map, noisy-fine on office-floor). The long
+// line's band takes part of the stretch's cells, the rest fall in its shadow; with them the
+// stretch stands out as a pane of its own (without them, as tested before, it did not).
+TEST(GlassLines, AShortPaneBeyondALongOneOnItsLineIsKept) {
+  LabelGrid g = emptyGrid(60.0, 40.0);
+  const Vec2 a(1.5, 4.3), b(6.3, 36.2);
+  const Vec2 n = Vec2(a.y() - b.y(), b.x() - a.x()).normalized();
+  drawSparsePane(g, a, b, 1);
+  drawSparsePane(g, a + 0.05 * n, b + 0.05 * n, 2);  // a band: a second cell every other row
+  struct Cell {
+    int x, y, bin;
+  };
+  const Cell stretch[] = {
+      {25, 57, 35}, {24, 55, 35}, {24, 52, 34}, {25, 52, 35}, {24, 51, 34}, {25, 51, 35}, {24, 50, 34}, {25, 48, 34},
+      {24, 47, 34}, {23, 46, 34}, {23, 45, 35}, {24, 45, 34}, {23, 44, 34}, {23, 43, 34}, {24, 43, 34}, {23, 42, 34},
+      {22, 41, 34}, {22, 40, 34}, {23, 40, 35}, {23, 39, 34}, {22, 38, 34}, {23, 38, 34}, {22, 37, 34}, {23, 37, 35},
+      {22, 36, 35}, {22, 35, 35}, {21, 34, 34}, {22, 34, 35}, {21, 33, 34}, {22, 33, 35}, {21, 32, 35}, {21, 31, 35},
+      {22, 31, 35}, {21, 30, 34}, {21, 29, 35}, {22, 29, 34}, {20, 28, 34}, {21, 28, 34}, {20, 27, 34}, {21, 27, 34},
+      {20, 26, 35}, {21, 26, 35}, {22, 26, 34}, {20, 25, 34}, {21, 25, 34}, {20, 24, 34}, {21, 24, 34}, {20, 23, 34},
+      {21, 23, 34}, {20, 22, 35}, {20, 21, 35}};
+  for (const Cell& c : stretch)
+    g.codes[static_cast<std::size_t>(c.y) * g.width + c.x] = static_cast<std::uint8_t>(kCodeFirstGlass + c.bin);
+  const auto glass = glassOf(vectorize(g).map);
+  double stretch_length = 0.0;
+  for (const MapSegment& s : glass)
+    if (std::max(s.a.y(), s.b.y()) < 3.5) stretch_length = std::max(stretch_length, (s.b - s.a).norm());
+  EXPECT_GT(stretch_length, 1.5) << glass.size() << " glass segments";
+}
+
 TEST(GlassLines, ScatteredGlassCellsMakeNoPane) {
   LabelGrid g = emptyGrid(10.0, 10.0);
   std::mt19937 rng(7);
