@@ -357,9 +357,19 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
   for (const Line& seed : seeds) {
     std::vector<std::size_t> idx = gather(weak_returns, used, seed, tol_a, tol_r);
     if (idx.size() < static_cast<std::size_t>(o.min_returns)) continue;
-    const Line line = fitLine(weak, idx, seed, tol_a);
+    Line line = fitLine(weak, idx, seed, tol_a);
     idx = gather(weak_returns, used, line, tol_a, tol_r);
     if (idx.size() < static_cast<std::size_t>(o.min_returns)) continue;
+    // Refit while the line gathers more: a line fitted to the part of a long pane near the seed
+    // drifts off the pane's far parts (a tenth of a degree is 5 cm at 30 m), which then split
+    // into runs too short to stand out, or go to a second line.
+    for (int round = 0; round < 3; ++round) {
+      const Line refit = fitLine(weak, idx, line, tol_a);
+      std::vector<std::size_t> more = gather(weak_returns, used, refit, tol_a, tol_r);
+      if (more.size() <= idx.size()) break;
+      line = refit;
+      idx = std::move(more);
+    }
     for (std::size_t i : idx) used[i] = true;
     // A pane cell returns only near its normal; a cell that returns to beams of every direction is
     // a corner, a post or an edge, and a few of those line up with any direction by chance.
