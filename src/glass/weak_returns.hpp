@@ -53,7 +53,8 @@ struct WeakReturn {
 class WeakReturns {
  public:
   /// Collects the returned beams (within the range noise sigma(r) of the options) whose cell most
-  /// beams passed (at least min_through, at most max_hit_ratio of them returned) and that lie more
+  /// beams passed (at least min_through, at most max_hit_ratio of them returned; beams without an
+  /// echo pass the cells before the first occupied cell they meet) and that lie more
   /// than max(wall_clearance, 3 sigma(r)) from every occupied cell of `evidence`.
   WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, const SparsePaneOptions& options,
               const CellEvidence& evidence);

@@ -11,7 +11,9 @@
 ///    against the density of weak returns of that direction, over the observed cells and around the
 ///    run, times the number of lines and runs tried: far fewer than one false alarm expected);
 ///  - the beams that meet the run mostly pass it and end well beyond (glass, not the front of a wall
-///    whose returns range noise spreads over two cells);
+///    whose returns range noise spreads over two cells); a beam that brings no echo back passes
+///    every cell before the first wall it meets (a facade over open ground has nothing in range
+///    behind it; a wall's dropouts stop at the wall);
 ///  - it is static: a pane answers each beam near its normal on its own, whenever it comes (with the
 ///    probability its lobe gives the beam's incidence), while a person walking by answers every
 ///    beam of a scan while there and none before or after, so the near-normal beams of one scan
@@ -37,7 +39,8 @@ namespace glassmap::glass {
 struct SparsePaneOptions {
   double min_range = 0.3;          ///< nearer returns are not weak returns (dust, the robot itself) [m]
   double max_footprint = 3.0;      ///< ...and farther than where the beam spreads over this many cells
-  double through_margin = 0.3;     ///< a beam passes a cell when it returns at least this far beyond it [m]
+  double through_margin = 0.3;     ///< a beam passes a cell when it returns at least this far beyond it
+                                   ///< (or brings no echo and meets no wall before it) [m]
   int min_through = 3;             ///< a weak return's cell is passed by at least this many beams
   double max_hit_ratio = 0.5;      ///< ...and returns at most this share of the beams that reach it
   double wall_clearance = 0.1;     ///< returns this close to an occupied cell are not weak [m] (at least 3 sigma(r))
@@ -89,10 +92,10 @@ struct SparsePaneOptions {
 
 /// A pane the search found.
 struct SparsePane {
-  Vec2 a, b;                  ///< ends of its run [m]
-  std::size_t returns = 0;    ///< weak returns along it
-  double log10_nfa = 0.0;     ///< log10 of the false alarms expected of a run like it
-  double transmission = 0.0;  ///< share of the beams meeting it that passed
+  Vec2 a, b;                       ///< ends of its run [m]
+  std::size_t returns = 0;         ///< weak returns along it
+  double log10_nfa = 0.0;          ///< log10 of the false alarms expected of a run like it
+  double transmission = 0.0;       ///< share of the beams meeting it that passed
   sparse::ScanCoherence by_scan;   ///< how its near-normal beams hang together within scans (z 0: static)
   sparse::ScanCoherence by_visit;  ///< ... and within the robot's visits (visitCoherence; `scans` counts visits)
 };
