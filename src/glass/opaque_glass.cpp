@@ -122,9 +122,8 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& t) {
     countSpurious(scan, o, t.surface, t.spurious);
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
-      // From the first tile near glass on: the cells before it are neither glass nor next to it.
-      double from = 0.0;
-      if (!tiles.near(beam.from, beam.to, &from)) return;
+      // Only beams that come near glass; walked from the laser on (a wall before the pane counts).
+      if (!tiles.near(beam.from, beam.to)) return;
       // A beam that went through a pane may have been folded by it: beyond that pane, where its
       // straight continuation ends says nothing about what it crosses.
       auto slot = [&](int x, int y) { return static_cast<std::size_t>(slots.find(x, y)); };
@@ -137,34 +136,35 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
       bool in_glass = false, direct = false, gap = false;
       double beyond = 0.0;
       Vec2 dir = Vec2::Zero();
-      grid::traverse(
-          g, beam.from, beam.to,
-          [&](int x, int y, double, bool last) {
-            const std::size_t i = g.index(x, y);
-            if (!is_glass[i]) {
-              if (in_glass) return false;  // past the first pane: nothing more counts
-              if (near_glass[i]) gap = true;
-              return !gap || near_glass[i];  // out of a gap in a pane's labels: through the pane
-            }
-            if (!in_glass) {
-              const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
-              beyond = std::max(o.beyond, 5.0 * sigma);
-              dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
-            }
-            in_glass = true;
-            if (last) {
-              direct = true;  // its reading in the first pane it met
-              return false;
-            }
-            const std::size_t c = slot(x, y);
-            const Vec2 n = dir.dot(normals[c]) >= 0.0 ? normals[c] : Vec2(-normals[c]);
-            const double past = n.dot(beam.to - g.center(x, y));
-            const bool pass = !beam.hit || past >= beyond;
-            ++(pass ? t.pass[c] : t.stop[c]);
-            if (pass && std::abs(dir.dot(n)) >= cos_near) ++t.near_pass[c];
-            return true;
-          },
-          from);
+      grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
+        const std::size_t i = g.index(x, y);
+        if (!is_glass[i]) {
+          if (in_glass) return false;  // past the first pane: nothing more counts
+          // Through a wall (not a pane's frame) first: a straight path that cannot have been,
+          // a beam some pane folded (a mirror image of a mirror image between facing panes
+          // lies beyond the walls behind them) or a spurious reading; it says nothing here.
+          if (e.label[i] == kOccupied && !near_glass[i]) return false;
+          if (near_glass[i]) gap = true;
+          return !gap || near_glass[i];  // out of a gap in a pane's labels: through the pane
+        }
+        if (!in_glass) {
+          const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
+          beyond = std::max(o.beyond, 5.0 * sigma);
+          dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
+        }
+        in_glass = true;
+        if (last) {
+          direct = true;  // its reading in the first pane it met
+          return false;
+        }
+        const std::size_t c = slot(x, y);
+        const Vec2 n = dir.dot(normals[c]) >= 0.0 ? normals[c] : Vec2(-normals[c]);
+        const double past = n.dot(beam.to - g.center(x, y));
+        const bool pass = !beam.hit || past >= beyond;
+        ++(pass ? t.pass[c] : t.stop[c]);
+        if (pass && std::abs(dir.dot(n)) >= cos_near) ++t.near_pass[c];
+        return true;
+      });
       if (own) {  // direct: the walk reached its reading in the first pane (dir is set)
         const std::size_t c = slot(end.x, end.y);
         if (!direct) {

@@ -8,9 +8,11 @@
 /// For every beam that crosses a glass cell (ends beyond it, not in it) and did not go through
 /// another pane first (a pane may have folded it: beyond that pane, where its straight continuation
 /// ends says nothing; a beam that slipped through a one-cell gap in a pane's labels, passing within
-/// a cell of its glass cells, went through it), the reading's distance past the pane's line (the
-/// cell's normal bin) decides:
-/// at least `beyond` (or a no-return reading) is a pass; less is a stop. A glass cell with at least
+/// a cell of its glass cells, went through it) nor through a wall (an occupied cell not beside
+/// glass: such a straight path cannot have been, and between two facing panes the images of images
+/// lie beyond the walls behind them, where they would pass those walls' cells), the reading's
+/// distance past the pane's line (the cell's normal bin) decides: at least `beyond` (or a
+/// no-return reading) is a pass; less is a stop. A glass cell with at least
 /// min_crossings such crossings of which fewer than min_transmission passed is opaque; so is one that
 /// at least min_unpassed_returns beams returned from and none passed (glass seen only through other
 /// glass: the far walls of the rooms behind a glass corridor). A cell too thinly seen for either
