@@ -214,7 +214,8 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const C
         };
         if (!beam.hit) {
           // No echo within the cap (nothing in range behind the run, or a dropout): the run did not
-          // answer it. It passed the run when it met no wall first (a wall's dropouts stop there).
+          // answer it. It passed the run when it met no wall first (a wall's dropouts stop there)
+          // and its end lies `beyond` past it (a surface at the edge of the range reads beyond it).
           // The near-normal tally counts it too; leaving it out would make the scans whose passing
           // beams find nothing in range look as if every near-normal beam returned.
           if ((f > 0) != (g > 0)) {
@@ -223,7 +224,7 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const C
             if (along < runs[r].s0 || along > runs[r].s1) return;
             nearNormal(false);
             if (clear < 0.0) clear = sparse::clearUntil(e.geometry, e.label, beam.from, beam.to);
-            if (at < clear) ++t.pass[r];
+            if (at < clear && (1.0 - at) * beam.range >= beyond) ++t.pass[r];
           }
           return;
         }

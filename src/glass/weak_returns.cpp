@@ -89,9 +89,13 @@ std::vector<std::uint8_t> passedCells(const LaserLog& log, const grid::BeamOptio
         if (holds(k, p) && decided[k].exchange(1, std::memory_order_relaxed) == 0) undecided.remove(x, y);
       };
       if (!beam.hit) {
-        // No echo within the cap: every cell before the first occupied one (so from the start).
-        grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool) {
-          if (label[g.index(x, y)] == kOccupied) return false;
+        // No echo within the cap: every cell before the first occupied one (so from the start), and
+        // through_margin plus 3 sigma(r) short of the beam's end (a surface at the edge of the
+        // range reads beyond it as often as not: those beams did not pass it).
+        const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
+        const double until = beam.range - o.through_margin - 3.0 * sigma;
+        grid::traverse(g, beam.from, beam.to, [&](int x, int y, double enter, bool) {
+          if (label[g.index(x, y)] == kOccupied || !(enter * beam.range < until)) return false;
           pass(x, y);
           return true;
         });

@@ -193,6 +193,31 @@ TEST(SparsePanes, FindsAFacadeWithNothingInRangeBehindIt) {
   }
 }
 
+// A cabinet whose front lies at the edge of a 4 m laser's range from the robot's path (the
+// random:15 profile, the URG's geometry; no glass anywhere): near the normal its front reads a few
+// centimetres either side of the maximum range, so half its beams bring no echo back. Those did
+// not pass it: beams without an echo pass only cells well short of the end of their range.
+TEST(SparsePanes, ASurfaceAtTheEdgeOfTheRangeIsNoPane) {
+  sim::Scene scene;
+  VectorMap& m = scene.map;
+  testing::addBox(m, {0, -3}, {16, 12});
+  testing::addPolyline(m, {{7.5, 6.5}, {7.5, 5.0}, {8.5, 5.0}, {8.5, 6.5}, {7.5, 6.5}});
+  scene.trajectory.waypoints = {{1.0, 1.0}, {15.0, 1.0}};
+  scene.trajectory.round_trip = true;
+  sim::applySensorProfile(scene, sim::sensorProfile("random:15"));
+  scene.laser.rate = 10.0;
+  testing::Classified c = testing::simulateAndClassify(scene);
+  SparsePaneOptions so;
+  so.range_sigma = scene.laser.range_sigma;
+  so.range_sigma_rel = scene.laser.range_sigma_rel;
+  const std::size_t before = c.mapped.evidence.countGlass();
+  const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, c.mapped.evidence);
+  std::printf("cabinet at the edge of the range (%.1f m): %zu weak returns, %zu runs, %zu panes (%.1f m)\n",
+              scene.laser.max_range, s.weak_returns, s.runs_tested, s.panes, s.metres);
+  EXPECT_EQ(s.panes, 0u);
+  EXPECT_EQ(c.mapped.evidence.countGlass(), before);
+}
+
 // A long facade off the grid's axes and off the search's 1-degree angle bins (8.53 deg, 28 m),
 // seen through to nothing in range as above: the line fitted to the returns near its seed drifts
 // off the far parts of the pane, so the search refits it until it gathers no more. Found whole.

@@ -12,8 +12,9 @@
 ///    run, times the number of lines and runs tried: far fewer than one false alarm expected);
 ///  - the beams that meet the run mostly pass it and end well beyond (glass, not the front of a wall
 ///    whose returns range noise spreads over two cells); a beam that brings no echo back passes
-///    every cell before the first wall it meets (a facade over open ground has nothing in range
-///    behind it; a wall's dropouts stop at the wall);
+///    every cell before the first wall it meets and well short of the end of its range (a facade
+///    over open ground has nothing in range behind it; a wall's dropouts stop at the wall, and a
+///    surface at the edge of the range reads beyond it as often as not);
 ///  - it is static: a pane answers each beam near its normal on its own, whenever it comes (with the
 ///    probability its lobe gives the beam's incidence), while a person walking by answers every
 ///    beam of a scan while there and none before or after, so the near-normal beams of one scan
