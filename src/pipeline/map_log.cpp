@@ -217,12 +217,16 @@ bool keepPlausibleLobe(const MapOptions& options, const SensorProfile& prior, se
   const bool wide = sigma - 2.0 * p.direct_sigma_deg.se > options.max_lobe_sigma_deg &&
                     sigma > options.max_lobe_sigma_deg * (1.0 + options.max_lobe_sigma_bias);
   const bool faint = p.direct_peak.value + 2.0 * p.direct_peak.se < options.min_lobe_peak;
-  if (!wide && !faint) return true;
-  char why[64];
+  // A peak within two standard errors of none: the fit cannot tell a lobe from no direct returns.
+  const bool unknown = p.direct_peak.value < 2.0 * p.direct_peak.se;
+  if (!wide && !faint && !unknown) return true;
+  char why[80];
   if (wide)
     std::snprintf(why, sizeof why, "wider than glass shows (at most %.0f deg)", options.max_lobe_sigma_deg);
-  else
+  else if (faint)
     std::snprintf(why, sizeof why, "fainter than glass shows (a peak of at least %.2f)", options.min_lobe_peak);
+  else
+    std::snprintf(why, sizeof why, "not told apart from no direct returns (a peak under 2 standard errors)");
   char what[320];
   std::snprintf(what, sizeof what,
                 "the fitted glass lobe (peak %.3f +- %.3f, sigma %.1f +- %.1f deg) is %s: what the first pass took "

@@ -221,10 +221,10 @@ TEST(Pipeline, ApplyProfileKeepsWhatTheCallerSet) {
 TEST(Pipeline, ALobeAsWideAsGlassShowsIsKeptWhateverItsFitReads) {
   const MapOptions o;
   const SensorProfile prior;
-  const auto kept = [&](double sigma, double se, double peak = 0.89) {
+  const auto kept = [&](double sigma, double se, double peak = 0.89, double peak_se = 0.002) {
     sensor::CalibrationResult fit;
     fit.profile.direct_sigma_deg = {sigma, se, true};
-    fit.profile.direct_peak = {peak, 0.002, true};
+    fit.profile.direct_peak = {peak, peak_se, true};
     fit.profile.direct_floor = {0.15, 0.002, true};
     const bool keep = keepPlausibleLobe(o, prior, fit);
     EXPECT_EQ(fit.warnings.empty(), keep) << sigma;
@@ -237,7 +237,11 @@ TEST(Pipeline, ALobeAsWideAsGlassShowsIsKeptWhateverItsFitReads) {
   EXPECT_FALSE(kept(22.5, 0.1));       // beyond the errors and the fit's bias
   EXPECT_FALSE(kept(26.2, 2.7));       // Freiburg 079's
   EXPECT_FALSE(kept(8.0, 0.5, 0.01));  // too faint for glass
-  sensor::CalibrationResult none;      // no lobe fitted: nothing to judge
+  // A peak within two standard errors of none (Freiburg 079's first pass at stop 42: 0.105 +- 0.091,
+  // 0.87 +- 0.53 deg, which mapped the log twice more for nothing), and one just outside them.
+  EXPECT_FALSE(kept(0.87, 0.53, 0.105, 0.091));
+  EXPECT_TRUE(kept(1.0, 0.2, 0.19, 0.09));
+  sensor::CalibrationResult none;  // no lobe fitted: nothing to judge
   EXPECT_TRUE(keepPlausibleLobe(o, prior, none));
   EXPECT_TRUE(none.warnings.empty());
 }

@@ -139,7 +139,8 @@ struct MapOptions {
 bool applyProfile(MapOptions& options, const SensorProfile& profile);
 
 /// A fitted glass lobe too wide (max_lobe_sigma_deg, beyond both its standard errors and the fit's
-/// bias max_lobe_sigma_bias) or too faint (min_lobe_peak) to be glass gives way to `prior`'s lobe
+/// bias max_lobe_sigma_bias) or too faint (min_lobe_peak) to be glass, or whose peak lies within two
+/// standard errors of zero (the fit cannot tell it from no direct returns), gives way to `prior`'s lobe
 /// (peak, sigma, floor), with the reason among fit.warnings. Returns whether the fitted lobe was kept
 /// (true also when no lobe was fitted).
 bool keepPlausibleLobe(const MapOptions& options, const SensorProfile& prior, sensor::CalibrationResult& fit);
