@@ -338,7 +338,7 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
   if (e.cells.empty() || log.scanCount() == 0) return stats;
   const double tol_r = std::max(o.offset_tol, 2.5 * o.range_sigma);
   const double tol_a = deg2rad(o.angle_tol_deg);
-  auto sigmaAt = [&](double range) { return std::hypot(o.range_sigma, o.range_sigma_rel * range); };
+  auto sigmaAt = [&](double range) { return sparse::rangeSigma(o, range); };
 
   const WeakReturns weak_returns(log, beams, o, e);
   const std::vector<WeakReturn>& weak = weak_returns.returns();

@@ -92,7 +92,7 @@ std::vector<std::uint8_t> passedCells(const LaserLog& log, const grid::BeamOptio
         // No echo within the cap: every cell before the first occupied one (so from the start), and
         // through_margin plus 3 sigma(r) short of the beam's end (a surface at the edge of the
         // range reads beyond it as often as not: those beams did not pass it).
-        const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
+        const double sigma = rangeSigma(o, beam.range);
         const double until = beam.range - o.through_margin - 3.0 * sigma;
         grid::traverse(g, beam.from, beam.to, [&](int x, int y, double enter, bool) {
           if (label[g.index(x, y)] == kOccupied || !(enter * beam.range < until)) return false;
@@ -168,7 +168,7 @@ WeakReturns::WeakReturns(const LaserLog& log, const grid::BeamOptions& beams, co
           const auto cell = static_cast<std::uint32_t>(g.index(g.cellAt(beam.to)));
           if (wall_distance[cell] * g.resolution <= least_clearance) return;
           if (e.candidate(cell) < 0) return;
-          const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
+          const double sigma = rangeSigma(o, beam.range);
           if (wall_distance[cell] * g.resolution <= std::max(o.wall_clearance, 3.0 * sigma)) return;
           out.push_back({beam.to, beam.from, beam.angle, cell});
         });

@@ -36,6 +36,11 @@ inline int wrapBin(int b) { return (b % kAngleBins + kAngleBins) % kAngleBins; }
 /// Glass cells of `label` in the (2 r + 1)^2 block around (x, y).
 int glassInBlock(const grid::GridGeometry& g, const std::vector<std::uint8_t>& label, int x, int y, int r);
 
+/// The laser's range noise at range r under the search's options: hypot(range_sigma, range_sigma_rel r) [m].
+inline double rangeSigma(const SparsePaneOptions& o, double r) {
+  return std::hypot(o.range_sigma, o.range_sigma_rel * r);
+}
+
 /// The parameter t in [0, 1] of segment a -> b where it enters the first occupied cell of `label`
 /// (over grid g), or 1 when it meets none: how far a beam without an echo is known to have gone (a
 /// wall's dropouts stop at the wall).
