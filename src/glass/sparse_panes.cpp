@@ -277,13 +277,56 @@ void forRunCells(const grid::GridGeometry& g, const Run& run, Visit&& visit) {
                  [&](int x, int y, double, bool) { visit(g.index(x, y)); });
 }
 
+// Where a run's line may still be glass: from s0 and s1 on along the line over observed cells
+// that are not walls, up to the run's length either way. A faint pane's run ends where its
+// near-normal returns stop, which need not be where the pane stops (its ends are seen obliquely).
+struct PaneLine {
+  const Run* run = nullptr;
+  double s0 = 0.0, s1 = 0.0;
+};
+PaneLine openExtent(const Run& run, const grid::GridGeometry& g, const std::vector<std::uint8_t>& labels) {
+  const double step = 0.5 * g.resolution, cap = run.s1 - run.s0;
+  auto reach = [&](double from, double dir) {
+    double e = 0.0;
+    for (; e < cap; e += step) {
+      const grid::CellIndex c = g.cellAt(run.end(from + dir * (e + step)));
+      if (!g.contains(c.x, c.y)) break;
+      const int l = labels[g.index(c.x, c.y)];
+      if (l == kOccupied || l == kUnknown) break;
+    }
+    return e;
+  };
+  return {&run, run.s0 - reach(run.s0, -1.0), run.s1 + reach(run.s1, 1.0)};
+}
+
+// True when the return's beam crossed `pane`'s line (at least glass_margin before the return)
+// where it may be glass, and its mirror image across that line falls on a surface of `labels` (an
+// occupied or glass cell within the uncertainty of a fitted line's direction, 1.5 deg, over the
+// mirrored distance): the beam was folded by the pane.
+bool mirroredBy(const PaneLine& pane, const WeakReturn& r, const grid::GridGeometry& g,
+                const std::vector<std::uint8_t>& labels, const SparsePaneOptions& o) {
+  const Line& line = pane.run->line;
+  const Vec2 n = line.normal();
+  const double d0 = n.dot(r.from) - line.rho, d1 = n.dot(r.at) - line.rho;
+  if (d0 * d1 >= 0.0 || std::abs(d1) < o.glass_margin) return false;
+  const double s = line.tangent().dot(r.from + d0 / (d0 - d1) * (r.at - r.from));
+  if (s < pane.s0 || s > pane.s1) return false;
+  const grid::CellIndex c = g.cellAt(r.at - 2.0 * d1 * n);
+  const int k = std::min(4, 1 + static_cast<int>(2.0 * std::abs(d1) * std::tan(deg2rad(1.5)) / g.resolution));
+  for (int y = c.y - k; y <= c.y + k; ++y)
+    for (int x = c.x - k; x <= c.x + k; ++x)
+      if (g.contains(x, y) && (labels[g.index(x, y)] == kOccupied || isGlass(labels[g.index(x, y)]))) return true;
+  return false;
+}
+
 // True when most of the run's returns crossed another pane of `panes` (labels with the candidate
 // runs drawn in; a glass cell with at least min_pane_cells glass cells in its 5 x 5 block) at least
-// glass_margin before the return. Beyond a pane, mirror images (a wall seen via the pane at the
-// wall's normal) and walls seen through it at grazing incidence (shifted sideways by up to the
-// pane's thickness, they land in front of themselves) have the signature of a faint pane.
-bool seenThroughAnotherPane(const std::vector<WeakReturn>& w, const Run& run, const CellEvidence& panes,
-                            const SparsePaneOptions& o) {
+// glass_margin before the return, or were folded by another run of `others` (mirroredBy). Beyond
+// a pane, mirror images (a wall seen via the pane at the wall's normal) and walls seen through it
+// at grazing incidence (shifted sideways by up to the pane's thickness, they land in front of
+// themselves) have the signature of a faint pane.
+bool seenThroughAnotherPane(const std::vector<WeakReturn>& w, const Run& run, const std::vector<PaneLine>& others,
+                            const CellEvidence& panes, const SparsePaneOptions& o) {
   const grid::GridGeometry& g = panes.geometry;
   auto isPane = [&](int x, int y) { return sparse::glassInBlock(g, panes.label, x, y, 2) >= o.min_pane_cells; };
   std::size_t via = 0;
@@ -295,6 +338,10 @@ bool seenThroughAnotherPane(const std::vector<WeakReturn>& w, const Run& run, co
       crossed = isGlass(panes.label[g.index(x, y)]) && isPane(x, y);
       return !crossed;
     });
+    if (!crossed)
+      crossed = std::any_of(others.begin(), others.end(), [&](const PaneLine& other) {
+        return other.run != &run && mirroredBy(other, w[i], g, panes.label, o);
+      });
     via += crossed;
   }
   return static_cast<double>(via) >= o.max_via * static_cast<double>(run.returns.size());
@@ -454,9 +501,11 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     forRunCells(g, run, [&](std::size_t i) {
       if (panes.label[i] == kEmpty) panes.label[i] = labelOf(run);
     });
+  std::vector<PaneLine> lines;
+  for (const Run& run : seen_through) lines.push_back(openExtent(run, g, panes.label));
   for (std::size_t r = 0; r < seen_through.size(); ++r) {
     const Run& run = seen_through[r];
-    if (seenThroughAnotherPane(weak, run, panes, o)) {
+    if (seenThroughAnotherPane(weak, run, lines, panes, o)) {
       ++stats.rejected_through;
       continue;
     }

@@ -251,5 +251,35 @@ TEST(SparsePanes, FindsALongSlantedFacadeWhole) {
   EXPECT_GT(on, s.metres - 0.5);
 }
 
+// The facade room with its range uncut, a wall set at 45 degrees in its west corner, and the robot
+// driving x 4..12 only: the room's side walls and that wall show in the facade as mirror images
+// outside, faint lines that beams pass as they pass glass. The beams that draw them cross the
+// facade between its ends and the ends of its run of returns (x 2..4, 12..14), where it is seen only
+// obliquely and its cells are labelled empty. The facade's line, carried on over open cells up to
+// the walls, folded them: refused (before: two images, 0.9 m each, at the room's south corners).
+TEST(SparsePanes, MirrorImagesBeyondAFaintFacadeAreNoPanes) {
+  sim::Scene scene = facadeRoom(true);
+  scene.laser.max_range = 16.0;
+  scene.map.add({0.2, 2.2}, {1.5, 3.5}, Material::Wall);
+  scene.trajectory.waypoints = {{4.0, 1.5}, {12.0, 1.5}};
+  testing::Classified c = testing::simulateAndClassify(scene);
+  SparsePaneOptions so;
+  so.range_sigma = 0.005;
+  so.range_sigma_rel = 0.01;
+  const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, c.mapped.evidence);
+  double facade = 0.0, outside = 0.0;
+  for (const SparsePane& p : s.found) {
+    const double length = (p.b - p.a).norm();
+    std::printf("  pane (%.2f, %.2f) - (%.2f, %.2f), %.1f m, %zu returns\n", p.a.x(), p.a.y(), p.b.x(), p.b.y(), length,
+                p.returns);
+    if (std::abs(p.a.y()) < 0.1 && std::abs(p.b.y()) < 0.1) facade += length;
+    if (0.5 * (p.a.y() + p.b.y()) < -0.3) outside += length;
+  }
+  std::printf("facade and its images: %.1f m on the facade, %.1f m outside; %zu seen through another pane\n", facade,
+              outside, s.rejected_through);
+  EXPECT_GT(facade, 7.5);
+  EXPECT_EQ(outside, 0.0);
+}
+
 }  // namespace
 }  // namespace glassmap::glass
