@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <boost/math/distributions/binomial.hpp>
 #include <boost/math/special_functions/gamma.hpp>
 
 #include "glassmap/core/angles.hpp"
@@ -67,8 +68,11 @@ double normalAngle(const CellCloud& cloud, std::uint32_t i) {
 }
 
 // Splits cells sorted along a line (positions t [m]) at gaps their own density makes unlikely:
-// with q = cells / length in cells, a gap of g empty cells has probability (1 - q)^g; a gap whose
-// probability is below alpha splits, largest first. Gaps up to always_join [m] never split.
+// with q = cells / length in cells, a gap of g empty cells has probability (1 - q)^g, and the
+// widest of the m gaps (stretches of empty cells between the cells) is that wide with probability
+// about m (1 - q)^g; where that is below alpha the run splits there, largest first (a sparse
+// pane's cells leave a wide gap somewhere by chance: the longer the pane, the wider). Gaps up to
+// always_join [m] never split.
 void splitAtGaps(const std::vector<std::pair<double, std::uint32_t>>& along, std::size_t lo, std::size_t hi, double res,
                  double alpha, double always_join, double never_join,
                  std::vector<std::pair<std::size_t, std::size_t>>& runs) {
@@ -78,15 +82,24 @@ void splitAtGaps(const std::vector<std::pair<double, std::uint32_t>>& along, std
   }
   const double length_cells = (along[hi - 1].first - along[lo].first) / res + 1.0;
   const double q = std::min(1.0, static_cast<double>(hi - lo) / length_cells);
-  std::size_t cut = 0;
+  std::size_t cut = 0, gaps = 0;
   double widest = 0;
   for (std::size_t k = lo + 1; k < hi; ++k) {
     const double gap = along[k].first - along[k - 1].first - res;
+    gaps += gap > 0.5 * res;
     if (gap > widest) widest = gap, cut = k;
   }
+  // The widest of m draws, unless the cells clump (far fewer stretches of empty cells than cells
+  // placed independently would leave: P(at most m | n - 1 pairs, 1 - q) < alpha), as blobs on a
+  // line do: then the gap is judged alone.
+  double draws = 1.0;
+  if (q < 1.0 && gaps > 1) {
+    const boost::math::binomial_distribution<double> independent(static_cast<double>(hi - lo - 1), 1.0 - q);
+    if (boost::math::cdf(independent, static_cast<double>(gaps)) >= alpha) draws = static_cast<double>(gaps);
+  }
   const double empty_cells = widest / res;
-  const bool split =
-      widest > never_join || (widest > always_join && (q >= 1.0 || empty_cells * std::log1p(-q) < std::log(alpha)));
+  const double log_p = std::log(draws) + empty_cells * std::log1p(-q);
+  const bool split = widest > never_join || (widest > always_join && (q >= 1.0 || log_p < std::log(alpha)));
   if (!split) {
     runs.push_back({lo, hi});
     return;

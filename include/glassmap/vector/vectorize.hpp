@@ -80,9 +80,10 @@ struct VectorizeOptions {
   /// which finds panes whose cells are sparse (a narrow-lobe or coarse laser hits one pane cell in
   /// three or four); false: region growing over neighbouring cells, as walls.
   bool glass_voting = true;
-  /// A pane's cells are cut where a gap of empty cells is this unlikely under the pane's own
-  /// density of cells q: (1 - q)^gap < glass_gap_alpha [-]. Gaps up to glass.max_gap always join,
-  /// gaps over glass.max_bridge never.
+  /// A pane's cells are cut where their widest gap is this unlikely under the pane's own density
+  /// of cells q: m (1 - q)^gap < glass_gap_alpha for m gaps between its cells (m = 1 where the
+  /// cells clump, at the same alpha) [-]. Gaps up to glass.max_gap always join, gaps over
+  /// glass.max_bridge never.
   double glass_gap_alpha = 0.01;
   /// Voting keeps a pane only when its cells stand out of the glass cells around it: the background
   /// density is counted in a band this far either side (beyond the pane's own) [m].
@@ -90,7 +91,7 @@ struct VectorizeOptions {
   /// ... and when fewer than 10^this such lines would arise by chance from that background in the
   /// whole map (the a contrario number of false alarms; -2: one in a hundred maps) [-].
   double glass_log10_false_alarms = -2.0;
-  bool glass_segments = true;         ///< fit glass
+  bool glass_segments = true;  ///< fit glass
   // Finer rules of the steps (defaults suit any cell size; units as stated).
   std::size_t min_region_cells = 3;       ///< region growing: smaller regions are left unassigned [cells]
   double short_glass_sd_cells = 3.0;      ///< a glass piece whose cells spread along it by less than this
