@@ -143,6 +143,14 @@ TEST(SparsePanes, PeopleWalkingByAreNotPanes) {
   }
 }
 
+// The sparse-pane search with rplidar-a2's range noise (5 mm + 1% of the range), on the classified map.
+SparsePaneStats findWithRplidarNoise(testing::Classified& c) {
+  SparsePaneOptions so;
+  so.range_sigma = 0.005;
+  so.range_sigma_rel = 0.01;
+  return findSparsePanes(c.log, c.options.beams, so, c.mapped.evidence);
+}
+
 // A room whose south side (y = 0, x 2..14) is a facade over open ground: nothing behind it within
 // the laser's range (cut to 5 m, so that the room's mirror images in the facade are out of range
 // too), and a laser without random readings, so the beams through it bring no echo back. Its weak
@@ -169,10 +177,7 @@ TEST(SparsePanes, FindsAFacadeWithNothingInRangeBehindIt) {
     testing::Classified c = testing::simulateAndClassify(scene);
     CellEvidence& e = c.mapped.evidence;
     const GlassCount before = countGlass(e, {0.0}, 2, 14);
-    SparsePaneOptions so;
-    so.range_sigma = 0.005;
-    so.range_sigma_rel = 0.01;
-    const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, e);
+    const SparsePaneStats s = findWithRplidarNoise(c);
     const GlassCount after = countGlass(e, {0.0}, 2, 14);
     std::printf(
         "%s: classifier %zu pane cells, %zu elsewhere; sparse panes %zu (%.1f m), %zu pane cells, %zu elsewhere "
@@ -235,10 +240,7 @@ TEST(SparsePanes, FindsALongSlantedFacadeWhole) {
   scene.laser.max_range = 9.0;
   scene.laser.random_rate = 0.0;
   testing::Classified c = testing::simulateAndClassify(scene);
-  SparsePaneOptions so;
-  so.range_sigma = 0.005;
-  so.range_sigma_rel = 0.01;
-  const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, c.mapped.evidence);
+  const SparsePaneStats s = findWithRplidarNoise(c);
   double longest = 0.0, on = 0.0;
   for (const SparsePane& p : s.found) {
     const double length = (p.b - p.a).norm();
@@ -263,10 +265,7 @@ TEST(SparsePanes, MirrorImagesBeyondAFaintFacadeAreNoPanes) {
   scene.map.add({0.2, 2.2}, {1.5, 3.5}, Material::Wall);
   scene.trajectory.waypoints = {{4.0, 1.5}, {12.0, 1.5}};
   testing::Classified c = testing::simulateAndClassify(scene);
-  SparsePaneOptions so;
-  so.range_sigma = 0.005;
-  so.range_sigma_rel = 0.01;
-  const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, c.mapped.evidence);
+  const SparsePaneStats s = findWithRplidarNoise(c);
   double facade = 0.0, outside = 0.0;
   for (const SparsePane& p : s.found) {
     const double length = (p.b - p.a).norm();
