@@ -11,6 +11,7 @@
 #include "glass_tiles.hpp"
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
+#include "mirror_image.hpp"
 
 namespace glassmap::glass {
 
@@ -64,18 +65,7 @@ bool mirrorsASurface(const CellEvidence& e, int pane_label, const Vec2& at, cons
     n = Vec2(std::cos(normal_angle), std::sin(normal_angle));
   }
   const double beyond = n.dot(reading - at);
-  if (std::abs(beyond) < margin) return false;
-  const Vec2 image = reading - 2.0 * beyond * n;
-  const int r = std::min(4, 1 + static_cast<int>(2.0 * std::abs(beyond) * std::tan(tolerance) / g.resolution));
-  const grid::CellIndex c = g.cellAt(image);
-  for (int dy = -r; dy <= r; ++dy)
-    for (int dx = -r; dx <= r; ++dx) {
-      const int x = c.x + dx, y = c.y + dy;
-      if (!g.contains(x, y)) continue;
-      const int l = e.label[g.index(x, y)];
-      if (l == kOccupied || isGlass(l)) return true;
-    }
-  return false;
+  return std::abs(beyond) >= margin && detail::mirrorFallsOnSurface(g, e.label, reading, n, beyond, tolerance);
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 #include "line_votes.hpp"
+#include "mirror_image.hpp"
 #include "weak_returns.hpp"
 
 namespace glassmap::glass {
@@ -282,6 +283,7 @@ void forRunCells(const grid::GridGeometry& g, const Run& run, Visit&& visit) {
 // near-normal returns stop, which need not be where the pane stops (its ends are seen obliquely).
 struct PaneLine {
   const Run* run = nullptr;
+  Vec2 n, t;  // the run's line's normal and tangent
   double s0 = 0.0, s1 = 0.0;
 };
 PaneLine openExtent(const Run& run, const grid::GridGeometry& g, const std::vector<std::uint8_t>& labels) {
@@ -296,27 +298,19 @@ PaneLine openExtent(const Run& run, const grid::GridGeometry& g, const std::vect
     }
     return e;
   };
-  return {&run, run.s0 - reach(run.s0, -1.0), run.s1 + reach(run.s1, 1.0)};
+  return {&run, run.line.normal(), run.line.tangent(), run.s0 - reach(run.s0, -1.0), run.s1 + reach(run.s1, 1.0)};
 }
 
 // True when the return's beam crossed `pane`'s line (at least glass_margin before the return)
-// where it may be glass, and its mirror image across that line falls on a surface of `labels` (an
-// occupied or glass cell within the uncertainty of a fitted line's direction, 1.5 deg, over the
-// mirrored distance): the beam was folded by the pane.
+// where it may be glass, and its mirror image across that line falls on a surface of `labels`
+// (within a fitted line's direction error, 1.5 deg): the beam was folded by the pane.
 bool mirroredBy(const PaneLine& pane, const WeakReturn& r, const grid::GridGeometry& g,
                 const std::vector<std::uint8_t>& labels, const SparsePaneOptions& o) {
-  const Line& line = pane.run->line;
-  const Vec2 n = line.normal();
-  const double d0 = n.dot(r.from) - line.rho, d1 = n.dot(r.at) - line.rho;
+  const double rho = pane.run->line.rho;
+  const double d0 = pane.n.dot(r.from) - rho, d1 = pane.n.dot(r.at) - rho;
   if (d0 * d1 >= 0.0 || std::abs(d1) < o.glass_margin) return false;
-  const double s = line.tangent().dot(r.from + d0 / (d0 - d1) * (r.at - r.from));
-  if (s < pane.s0 || s > pane.s1) return false;
-  const grid::CellIndex c = g.cellAt(r.at - 2.0 * d1 * n);
-  const int k = std::min(4, 1 + static_cast<int>(2.0 * std::abs(d1) * std::tan(deg2rad(1.5)) / g.resolution));
-  for (int y = c.y - k; y <= c.y + k; ++y)
-    for (int x = c.x - k; x <= c.x + k; ++x)
-      if (g.contains(x, y) && (labels[g.index(x, y)] == kOccupied || isGlass(labels[g.index(x, y)]))) return true;
-  return false;
+  const double s = pane.t.dot(r.from + d0 / (d0 - d1) * (r.at - r.from));
+  return s >= pane.s0 && s <= pane.s1 && detail::mirrorFallsOnSurface(g, labels, r.at, pane.n, d1, deg2rad(1.5));
 }
 
 // True when most of the run's returns crossed another pane of `panes` (labels with the candidate
