@@ -105,20 +105,26 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
           if (!tiles.near(beam.from, beam.to, &from)) return;
           const double glass_until = beam.range - options.glass_margin;
           const double block_until = beam.range - options.block_margin;
-          bool through_glass = false, is_folded = false;
-          int pane_label = -1;
-          Vec2 pane_at = Vec2::Zero();
+          bool through_glass = false, is_folded = false, in_glass = false;
+          // Where the beam entered each run of glass cells (the first few): a reading beyond two
+          // panes may be the image the second folded, the beam having passed the first.
+          constexpr int kPanes = 4;
+          int panes = 0;
+          int pane_label[kPanes];
+          Vec2 pane_at[kPanes];
           grid::traverse(
               g, beam.from, beam.to,
               [&](int x, int y, double t, bool) {
                 const double d = t * beam.range;
                 if (d >= glass_until) return false;
                 const int l = e.label[g.index(x, y)];
-                if (isGlass(l)) {
-                  if (!through_glass) {
-                    pane_label = l;
-                    pane_at = beam.from + d * (beam.to - beam.from) / beam.range;
-                  }
+                const bool glass = isGlass(l);
+                if (glass && !in_glass && panes < kPanes) {
+                  pane_label[panes] = l;
+                  pane_at[panes++] = beam.from + d * (beam.to - beam.from) / beam.range;
+                }
+                in_glass = glass;
+                if (glass) {
                   through_glass = true;
                 } else if (through_glass && l == kOccupied && d < block_until) {
                   // Blocked only if the reading lies well beyond the wall's line, not just further
@@ -136,8 +142,10 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
           // A reading in a glass cell beyond a pane whose mirror image (across that pane) is a
           // surface in front of it: the path the pane folded, which draws a phantom pane with the
           // very signature of glass (the mirrored pane's direct returns, from one angle).
-          if (through_glass && !is_folded && isGlass(e.label[g.index(end)]))
-            is_folded = mirrorsASurface(e, pane_label, pane_at, beam.to, options.block_margin);
+          if (through_glass && !is_folded && isGlass(e.label[g.index(end)])) {
+            for (int i = 0; i < panes && !is_folded; ++i)
+              is_folded = mirrorsASurface(e, pane_label[i], pane_at[i], beam.to, options.block_margin);
+          }
           tally.through_glass += through_glass;
           tally.folded_beams += is_folded;
           tally.folded[static_cast<std::size_t>(c)] += is_folded;

@@ -56,5 +56,57 @@ TEST(MirrorPhantoms, PhantomPanesMirroringARealPaneAreCleared) {
   EXPECT_GT(s.cells_cleared, 0u);
 }
 
+// Glass cells of e whose centre (x, y) [m] `where` accepts.
+template <class Where>
+std::size_t glassCellsWhere(const CellEvidence& e, Where&& where) {
+  std::size_t n = 0;
+  const grid::GridGeometry& g = e.geometry;
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const Vec2 c = g.origin + (Vec2(x, y) + Vec2(0.5, 0.5)) * g.resolution;
+      n += isGlass(e.label[g.index(x, y)]) && where(c.x(), c.y());
+    }
+  return n;
+}
+
+// A corridor (y = 0 .. 2, a wall at y = 2) with a pane along y = 0 and a second pane behind it
+// (y = -1.5), a room behind both. A beam that passes the first pane, is folded by the second and
+// comes back directly from the first draws a phantom pane at y = -3: its mirror image across the
+// first pane crossed (y = 3) lies outside the building, across the second (y = 0) it is the real
+// pane. Every pane the beam crossed is a candidate fold, not just the first (random:21's glass room,
+// stop 44).
+TEST(MirrorPhantoms, APaneSeenThroughAnotherFoldsToo) {
+  sim::Scene scene;
+  VectorMap& m = scene.map;
+  m.add({0, 0}, {12, 0}, Material::Glass);
+  m.add({0, -1.5}, {12, -1.5}, Material::Glass);
+  testing::addBox(m, {-1, -7}, {13, 2});
+  scene.trajectory.waypoints = {{1, 1}, {11, 1}};
+  scene.trajectory.speed = 0.5;
+  scene.laser.rate = 10.0;
+  scene.glass.direct_sigma_deg = 15.0;
+  scene.glass.direct_peak = 1.0;
+  scene.glass.reflection_floor = 0.5;
+  testing::Classified c = testing::simulateAndClassify(scene);
+  CellEvidence& e = c.mapped.evidence;
+  // Glass cells in the room behind the second pane, beyond what a fold at the first can reach
+  // (its images of the corridor wall lie at y = -2): the phantom at y = -3 and the corridor wall
+  // folded by the second pane (y = -5).
+  auto behind = [&] {
+    return glassCellsWhere(e, [](double x, double y) { return x > 1.0 && x < 11.0 && y < -2.6 && y > -6.7; });
+  };
+  auto real = [&] {
+    return glassCellsWhere(e, [](double, double y) { return std::abs(y) < 0.15 || std::abs(y + 1.5) < 0.15; });
+  };
+  const std::size_t before = behind(), real_before = real();
+  suppressMirrorPhantoms(c.log, c.options.beams, PhantomOptions{}, e);
+  const std::size_t after = behind(), real_after = real();
+  std::printf("behind the second pane: %zu glass cells before, %zu after; real pane cells %zu -> %zu\n", before, after,
+              real_before, real_after);
+  EXPECT_GT(before, 40u);
+  EXPECT_LT(after, before / 2);  // the first pane's fold alone clears none of them
+  EXPECT_GE(real_after, real_before * 95 / 100);
+}
+
 }  // namespace
 }  // namespace glassmap::glass
