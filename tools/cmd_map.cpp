@@ -132,7 +132,8 @@ void run(MapArgs& args) {
     std::printf("%-22s %.1f\n", "state bytes/cell", st.bytes_per_observed_cell);
     if (use_mrf) std::printf("%-22s %zu cells changed\n", "mrf", refined.changed);
     if (options.prune_unfitted_glass)
-      std::printf("%-22s %zu glass cells off every glass segment relabelled\n", "pane fit", result.pruned_glass);
+      std::printf("%-22s %zu glass cells off every glass segment relabelled, %zu cells on one made glass\n", "pane fit",
+                  result.pruned_glass, result.filled_glass);
     if (options.scan_fit.enabled && result.has_floorplan)
       std::printf("%-22s %s\n", "walls onto returns", cli::scanFitSummary(result.scan_fit).c_str());
     if (options.scan_clutter.enabled && result.has_floorplan)
@@ -203,8 +204,11 @@ const cli::Registrar reg(40, [](CLI::App& app) {
                 "write no floorplan files (the floorplan is still fitted in memory for the pane fit,\n"
                 "unless --keep-unfitted-glass)");
   cmd->add_flag("!--keep-unfitted-glass", args->options.prune_unfitted_glass,
-                "keep glass cells that no fitted glass segment explains: by default they take their best\n"
-                "non-glass label (people walking by leave arcs of cells that each look like glass)");
+                "leave the glass cells as the classifiers drew them: by default glass cells that no fitted\n"
+                "glass segment explains take their best non-glass label (people walking by leave arcs of cells\n"
+                "that each look like glass), and the empty or unknown cells a fitted glass segment passes\n"
+                "through become glass (a faint pane draws one cell in three: a planner would drive through the\n"
+                "gaps)");
   cmd->add_flag("!--no-scan-fit", args->options.scan_fit.enabled,
                 "keep the walls where the cells draw them: by default each wall and clutter segment of the\n"
                 "floorplan moves along its normal (its direction kept) onto the densest 0.1 m wide band of the\n"

@@ -101,8 +101,10 @@ MapResult mapOnce(const LaserLog& log, const MapOptions& options, const Progress
     step(options.scan_fit.enabled, "scan fit", out.seconds.scan_fit,
          [&] { out.scan_fit = vector::fitToScans(out.floorplan, log, mapping.beams, options.scan_fit); });
   }
-  if (options.prune_unfitted_glass)
+  if (options.prune_unfitted_glass) {
     out.pruned_glass = vector::pruneUnfittedGlass(out.evidence, out.floorplan.map, options.prune_tolerance);
+    out.filled_glass = vector::fillFittedGlass(out.evidence, out.floorplan.map);
+  }
 
   // The later steps relabel cells: count what comes out.
   out.stats.glass_cells = out.evidence.countGlass();

@@ -50,4 +50,23 @@ std::size_t pruneUnfittedGlass(glass::CellEvidence& e, const VectorMap& floorpla
   return changed;
 }
 
+std::size_t fillFittedGlass(glass::CellEvidence& e, const VectorMap& floorplan) {
+  VectorMap panes;
+  for (const MapSegment& s : floorplan.segments)
+    if (s.material == Material::Glass) panes.segments.push_back(s);
+  if (panes.segments.empty()) return 0;
+  LabelGrid on = makeLabelGrid(e.geometry.width, e.geometry.height, e.geometry.resolution, e.geometry.origin);
+  on.angle_bin_deg = 180.0 / e.bins;
+  for (MapSegment& s : panes.segments) s.thickness = 0.0;  // the cells the line passes through
+  rasterize(on, panes);
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < e.label.size(); ++i) {
+    const int label = e.label[i];
+    if (!isGlassCode(on.codes[i]) || (label != kEmpty && label != kUnknown)) continue;
+    e.label[i] = static_cast<std::uint8_t>(codeToLabel(on.codes[i]));
+    ++changed;
+  }
+  return changed;
+}
+
 }  // namespace glassmap::vector

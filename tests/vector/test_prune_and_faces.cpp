@@ -47,6 +47,50 @@ TEST(PruneUnfittedGlass, CellsOffEveryPaneTakeTheirBestOtherLabel) {
   EXPECT_EQ(pruneUnfittedGlass(e, VectorMap{}), 60u);
 }
 
+TEST(FillFittedGlass, TheGapsOfAFaintPaneBecomeGlassAndWallsStay) {
+  glass::CellEvidence e = blankEvidence(100, 100);
+  const auto& g = e.geometry;
+  // A faint pane along row 50 (y = 2.525), x 1..4 m: one cell in four drawn, normal along y.
+  for (int x = 20; x < 80; x += 4) e.label[g.index(x, 50)] = static_cast<std::uint8_t>(glassLabel(18));
+  e.label[g.index(41, 50)] = static_cast<std::uint8_t>(kOccupied);  // a mullion
+  e.label[g.index(42, 50)] = kUnknown;                              // never seen
+  VectorMap plan;
+  plan.add({1.0, 2.525}, {4.0, 2.525}, Material::Glass);
+  plan.add({1.0, 1.025}, {4.0, 1.025}, Material::Wall);  // walls fill nothing
+  // A pane at 45 deg from (1.01, 3.5) to (2.01, 4.5): a 4-connected staircase of cells, normal at
+  // 135 deg.
+  plan.add({1.01, 3.5}, {2.01, 4.5}, Material::Glass);
+
+  const std::vector<std::uint8_t> before = e.label;
+  const std::size_t filled = fillFittedGlass(e, plan);
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < before.size(); ++i) changed += before[i] != e.label[i];
+  EXPECT_EQ(filled, changed);
+  for (int x = 20; x < 80; ++x) {
+    if (x == 41) continue;
+    EXPECT_EQ(e.label[g.index(x, 50)], glassLabel(18)) << x;
+  }
+  EXPECT_EQ(e.label[g.index(41, 50)], kOccupied);
+  for (int x = 20; x < 80; ++x) EXPECT_EQ(e.label[g.index(x, 20)], kEmpty) << x;
+  // The diagonal: binned at 135 deg (bin 27), each cell followed by the one to its right or above
+  // but the last.
+  int diagonal = 0, ends = 0;
+  for (int y = 65; y < 95; ++y)
+    for (int x = 15; x < 45; ++x) {
+      const int l = e.label[g.index(x, y)];
+      if (!isGlass(l)) continue;
+      ++diagonal;
+      EXPECT_EQ(glassBin(l), 27) << x << " " << y;
+      ends += !isGlass(e.label[g.index(x + 1, y)]) && !isGlass(e.label[g.index(x, y + 1)]);
+    }
+  EXPECT_GE(diagonal, 40);
+  EXPECT_LE(diagonal, 41);
+  EXPECT_EQ(ends, 1);
+  EXPECT_GE(filled, 60u - 15u - 1u + static_cast<std::size_t>(diagonal));  // and the cells the ends touch
+  EXPECT_EQ(fillFittedGlass(e, plan), 0u);                                 // idempotent
+  EXPECT_EQ(fillFittedGlass(e, VectorMap{}), 0u);
+}
+
 // A wall band four cells thick (y 2.40 .. 2.60). Seen from below only, the wall lies on the edge
 // of free space; with free space on both sides it stays in the middle.
 double wallLineY(bool free_above, bool align = true) {

@@ -49,7 +49,9 @@ struct MapOptions {
   glass::PhantomOptions phantom;
   bool fit_floorplan = true;         ///< vectorize the labels into a floorplan
   bool prune_unfitted_glass = true;  ///< glass cells no fitted pane explains take their best other
-                                     ///< label (fits the floorplan even when fit_floorplan is off)
+                                     ///< label, and the empty or unknown cells a fitted pane passes
+                                     ///< through become glass (fits the floorplan even when
+                                     ///< fit_floorplan is off)
   double prune_tolerance = 0.10;     ///< ... farther than this from every glass segment [m]
   vector::VectorizeOptions vectorize;
   /// The floorplan's walls and clutter moved onto the log's returns (vector/scan_fit.hpp); off
@@ -168,6 +170,7 @@ struct MapResult {
   vector::VectorizeResult floorplan;      ///< the fitted floorplan (empty unless fitted)
   bool has_floorplan = false;             ///< the floorplan was fitted
   std::size_t pruned_glass = 0;           ///< glass cells the pane fit relabelled
+  std::size_t filled_glass = 0;           ///< empty or unknown cells on a fitted pane made glass
   vector::ScanFitStats scan_fit;          ///< the walls moved onto the returns (zero when skipped)
   vector::ScanClutterStats scan_clutter;  ///< the clutter layer chosen from the returns (zero when skipped)
   SensorProfile profile;                  ///< the profile the final pass used

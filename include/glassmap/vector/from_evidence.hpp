@@ -21,4 +21,10 @@ LabelGrid toLabelGrid(const glass::CellEvidence& evidence);
 /// costs). Returns the number of cells relabelled.
 std::size_t pruneUnfittedGlass(glass::CellEvidence& evidence, const VectorMap& floorplan, double tolerance = 0.10);
 
+/// The other half of putting the cells in line with the floorplan: a faint pane draws one cell in
+/// three or four, and the gaps between them are free cells a planner would drive through. Every
+/// cell a glass segment of `floorplan` passes through that is labelled empty or unknown becomes
+/// glass with the segment's direction (walls stay walls). Returns the number of cells relabelled.
+std::size_t fillFittedGlass(glass::CellEvidence& evidence, const VectorMap& floorplan);
+
 }  // namespace glassmap::vector
