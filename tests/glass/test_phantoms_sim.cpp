@@ -11,24 +11,29 @@
 namespace glassmap::glass {
 namespace {
 
-// Two parallel panes (y = 0 and y = 2) with open rooms behind them, seen by a laser whose glass
-// returns almost always near the normal (15 deg lobe) and reflects half the rest. A beam folded by
-// one pane that comes back directly from the other draws a phantom pane inside the room behind the
-// first, mirrored across it: hits from one angle, the very signature of glass, and no wall in
-// between to tell. Its mirror image is the real pane, which is the test.
-TEST(MirrorPhantoms, PhantomPanesMirroringARealPaneAreCleared) {
+// Panes along y = 0 and y = y2 (x 0 .. 12) in a box from lo to hi, seen from a path along y = 1 by a
+// laser whose glass returns almost always near the normal (15 deg lobe) and reflects half the rest.
+testing::Classified twoPanes(double y2, const Vec2& lo, const Vec2& hi) {
   sim::Scene scene;
-  VectorMap& m = scene.map;
-  m.add({0, 0}, {12, 0}, Material::Glass);
-  m.add({0, 2}, {12, 2}, Material::Glass);
-  testing::addBox(m, {-1, -5}, {13, 7});
+  scene.map.add({0, 0}, {12, 0}, Material::Glass);
+  scene.map.add({0, y2}, {12, y2}, Material::Glass);
+  testing::addBox(scene.map, lo, hi);
   scene.trajectory.waypoints = {{1, 1}, {11, 1}};
   scene.trajectory.speed = 0.5;
   scene.laser.rate = 10.0;
   scene.glass.direct_sigma_deg = 15.0;
   scene.glass.direct_peak = 1.0;
   scene.glass.reflection_floor = 0.5;
-  testing::Classified c = testing::simulateAndClassify(scene);
+  return testing::simulateAndClassify(scene);
+}
+
+// Two parallel panes (y = 0 and y = 2) with open rooms behind them, seen by a laser whose glass
+// returns almost always near the normal (15 deg lobe) and reflects half the rest. A beam folded by
+// one pane that comes back directly from the other draws a phantom pane inside the room behind the
+// first, mirrored across it: hits from one angle, the very signature of glass, and no wall in
+// between to tell. Its mirror image is the real pane, which is the test.
+TEST(MirrorPhantoms, PhantomPanesMirroringARealPaneAreCleared) {
+  testing::Classified c = twoPanes(2.0, {-1, -5}, {13, 7});
   CellEvidence& e = c.mapped.evidence;
   // Glass cells inside the rooms (beyond either pane, short of the rooms' walls) are phantoms.
   auto phantoms = [&] {
@@ -76,18 +81,7 @@ std::size_t glassCellsWhere(const CellEvidence& e, Where&& where) {
 // pane. Every pane the beam crossed is a candidate fold, not just the first (random:21's glass room,
 // stop 44).
 TEST(MirrorPhantoms, APaneSeenThroughAnotherFoldsToo) {
-  sim::Scene scene;
-  VectorMap& m = scene.map;
-  m.add({0, 0}, {12, 0}, Material::Glass);
-  m.add({0, -1.5}, {12, -1.5}, Material::Glass);
-  testing::addBox(m, {-1, -7}, {13, 2});
-  scene.trajectory.waypoints = {{1, 1}, {11, 1}};
-  scene.trajectory.speed = 0.5;
-  scene.laser.rate = 10.0;
-  scene.glass.direct_sigma_deg = 15.0;
-  scene.glass.direct_peak = 1.0;
-  scene.glass.reflection_floor = 0.5;
-  testing::Classified c = testing::simulateAndClassify(scene);
+  testing::Classified c = twoPanes(-1.5, {-1, -7}, {13, 2});
   CellEvidence& e = c.mapped.evidence;
   // Glass cells in the room behind the second pane, beyond what a fold at the first can reach
   // (its images of the corridor wall lie at y = -2): the phantom at y = -3 and the corridor wall
