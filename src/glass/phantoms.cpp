@@ -105,9 +105,10 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
           if (!tiles.near(beam.from, beam.to, &from)) return;
           const double glass_until = beam.range - options.glass_margin;
           const double block_until = beam.range - options.block_margin;
-          bool through_glass = false, is_folded = false, in_glass = false;
-          // Where the beam entered each run of glass cells (the first few): a reading beyond two
-          // panes may be the image the second folded, the beam having passed the first.
+          bool is_folded = false, in_glass = false;
+          // Where the beam entered each run of glass cells (the first few; none: it crossed no
+          // glass): a reading beyond two panes may be the image the second folded, the beam having
+          // passed the first.
           constexpr int kPanes = 4;
           int panes = 0;
           int pane_label[kPanes];
@@ -124,9 +125,7 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
                   pane_at[panes++] = beam.from + d * (beam.to - beam.from) / beam.range;
                 }
                 in_glass = glass;
-                if (glass) {
-                  through_glass = true;
-                } else if (through_glass && l == kOccupied && d < block_until) {
+                if (panes > 0 && l == kOccupied && d < block_until) {
                   // Blocked only if the reading lies well beyond the wall's line, not just further
                   // along a wall the beam grazes (a pane's frame, a corner).
                   Vec2 n;
@@ -142,11 +141,11 @@ PhantomStats suppressMirrorPhantoms(const LaserLog& log, const grid::BeamOptions
           // A reading in a glass cell beyond a pane whose mirror image (across that pane) is a
           // surface in front of it: the path the pane folded, which draws a phantom pane with the
           // very signature of glass (the mirrored pane's direct returns, from one angle).
-          if (through_glass && !is_folded && isGlass(e.label[g.index(end)])) {
+          if (!is_folded && isGlass(e.label[g.index(end)])) {
             for (int i = 0; i < panes && !is_folded; ++i)
               is_folded = mirrorsASurface(e, pane_label[i], pane_at[i], beam.to, options.block_margin);
           }
-          tally.through_glass += through_glass;
+          tally.through_glass += panes > 0;
           tally.folded_beams += is_folded;
           tally.folded[static_cast<std::size_t>(c)] += is_folded;
         },

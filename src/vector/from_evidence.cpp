@@ -25,15 +25,29 @@ LabelGrid toLabelGrid(const glass::CellEvidence& e) {
   return g;
 }
 
-std::size_t pruneUnfittedGlass(glass::CellEvidence& e, const VectorMap& floorplan, double tolerance) {
-  // Cells within the tolerance of some glass segment: the glass segments rasterised as bands
-  // 2 * tolerance wide.
+namespace {
+
+// The glass segments of `floorplan` drawn over the grid of e with their panes' directions (in e's
+// angle bins): each a band as thick as the segment and at least `min_width` [m], or with `lines`
+// only the cells its line passes through.
+LabelGrid glassRaster(const glass::CellEvidence& e, const VectorMap& floorplan, double min_width, bool lines) {
   VectorMap panes;
   for (const MapSegment& s : floorplan.segments)
-    if (s.material == Material::Glass) panes.segments.push_back(s);
-  LabelGrid near = makeLabelGrid(e.geometry.width, e.geometry.height, e.geometry.resolution, e.geometry.origin);
-  near.angle_bin_deg = 180.0 / e.bins;
-  rasterize(near, panes, 2.0 * tolerance);
+    if (s.material == Material::Glass) {
+      panes.segments.push_back(s);
+      if (lines) panes.segments.back().thickness = 0.0;
+    }
+  LabelGrid g = makeLabelGrid(e.geometry.width, e.geometry.height, e.geometry.resolution, e.geometry.origin);
+  g.angle_bin_deg = 180.0 / e.bins;
+  rasterize(g, panes, min_width);
+  return g;
+}
+
+}  // namespace
+
+std::size_t pruneUnfittedGlass(glass::CellEvidence& e, const VectorMap& floorplan, double tolerance) {
+  // Cells within the tolerance of some glass segment: the glass segments as bands 2 * tolerance wide.
+  const LabelGrid near = glassRaster(e, floorplan, 2.0 * tolerance, false);
   std::size_t changed = 0;
   for (std::size_t i = 0; i < e.label.size(); ++i) {
     const int label = e.label[i];
@@ -51,14 +65,7 @@ std::size_t pruneUnfittedGlass(glass::CellEvidence& e, const VectorMap& floorpla
 }
 
 std::size_t fillFittedGlass(glass::CellEvidence& e, const VectorMap& floorplan) {
-  VectorMap panes;
-  for (const MapSegment& s : floorplan.segments)
-    if (s.material == Material::Glass) panes.segments.push_back(s);
-  if (panes.segments.empty()) return 0;
-  LabelGrid on = makeLabelGrid(e.geometry.width, e.geometry.height, e.geometry.resolution, e.geometry.origin);
-  on.angle_bin_deg = 180.0 / e.bins;
-  for (MapSegment& s : panes.segments) s.thickness = 0.0;  // the cells the line passes through
-  rasterize(on, panes);
+  const LabelGrid on = glassRaster(e, floorplan, 0.0, true);
   std::size_t changed = 0;
   for (std::size_t i = 0; i < e.label.size(); ++i) {
     const int label = e.label[i];
