@@ -82,35 +82,15 @@ int64_t BinaryMoveSolver::changeEnergy(const std::vector<uint16_t>& labels) cons
 MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
   MoveOutcome out;
   changed_.clear();
-  const uint32_t n = static_cast<uint32_t>(vars_.size());
-  if (n == 0) return out;
+  if (vars_.empty()) return out;
   const int w = e_.width, h = e_.height;
-  for (uint32_t k = 0; k < n; ++k) node_of_[vars_[k]] = static_cast<int32_t>(k);
-  cur_.assign(n, 0);
-  for (uint32_t k = 0; k < n; ++k) {
+  for (uint32_t k = 0; k < vars_.size(); ++k) node_of_[vars_[k]] = static_cast<int32_t>(k);
+  cur_.assign(vars_.size(), 0);
+  for (uint32_t k = 0; k < vars_.size(); ++k) {
     const uint16_t l = labels[vars_[k]];
     if (l != l0_[k] && l != l1_[k]) throw std::logic_error("move variable not at one of its labels");
     cur_[k] = (l == l0_[k]) ? 0 : 1;
   }
-
-  // Arcs sorted by source: per variable its arcs to variable neighbours, then to s and t;
-  // then s -> every variable, t -> every variable. Vertices: variables 0..n-1, s = n, t = n + 1.
-  // They go straight into the graph's compressed rows (Boost's CSR storage, m_forward, is a
-  // public member), refilled in place so its arrays keep their capacity between moves. The
-  // variables are handled in parallel blocks (each writes its own arcs and terms; the energy
-  // sums are integers, so the graph is the same on any number of threads).
-  const uint32_t s = n, t = n + 1;
-  Graph& g = graph_;
-  std::vector<uint32_t>& row = g.m_forward.m_rowstart;
-  std::vector<uint32_t>& col = g.m_forward.m_column;
-  row.resize(static_cast<std::size_t>(n) + 3);
-  arc_dir_.assign(static_cast<std::size_t>(n) * 8, -1);
-  tarc_.resize(n);
-  th0_.resize(n);
-  th1_.resize(n);
-  const int L = e_.num_labels;
-  const int32_t* table = e_.pairwise_dir.empty() ? e_.pairwise.data() : e_.pairwise_dir.data();
-  const std::size_t class_stride = e_.pairwise_dir.empty() ? 0 : static_cast<std::size_t>(L) * L;
   std::ptrdiff_t offset[8];
   for (int d = 0; d < 8; ++d) offset[d] = static_cast<std::ptrdiff_t>(kDy[d]) * w + kDx[d];
   const auto neighbours = [&](uint32_t k, auto&& visit) {  // visit(d, nc) for each neighbour in the grid
@@ -125,8 +105,124 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
       visit(d, static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[d]));
     }
   };
+  // The pair term of variables k and j as the cut minimises it, E'(x_lo, x_hi) = {A, B, C, D} for
+  // (0,0), (0,1), (1,0), (1,1) with lo < hi: a term that is not submodular (B + C < A + D) is raised
+  // on the configurations the current labelling does not use (Rother et al. 2005), so E' >= E and
+  // E'(current) = E(current). Sets `raised` when it was.
+  struct Pair {
+    int64_t A, B, C, D;
+  };
+  const auto pairTerm = [&](uint32_t k, uint32_t j, int cls, bool& raised) {
+    const uint32_t lo = std::min(k, j), hi = std::max(k, j);
+    Pair p{e_.psi(l0_[lo], l0_[hi], cls), e_.psi(l0_[lo], l1_[hi], cls), e_.psi(l1_[lo], l0_[hi], cls),
+           e_.psi(l1_[lo], l1_[hi], cls)};
+    const int64_t deficit = p.A + p.D - p.B - p.C;
+    raised = deficit > 0;
+    if (raised) {
+      const bool b_used = cur_[lo] == 0 && cur_[hi] == 1, c_used = cur_[lo] == 1 && cur_[hi] == 0;
+      if (b_used) {
+        p.C += deficit;
+      } else if (c_used) {
+        p.B += deficit;
+      } else {
+        p.B += deficit / 2;
+        p.C += deficit - deficit / 2;
+      }
+    }
+    return p;
+  };
   constexpr std::size_t kGrain = 4096;
   using Range = tbb::blocked_range<uint32_t>;
+
+  // Variables that every minimiser of the move keeps where they are (dominance, a persistency
+  // of Boros and Hammer): when E'(x_k = other) - E'(x_k = current) is positive whatever the
+  // neighbours take, flipping x_k back from any labelling lowers E'. Such a cell leaves the move
+  // and is a fixed neighbour of the others: the minimum and the minimisers are those of the whole
+  // move (in an expansion most cells where alpha is a candidate stay far from taking it). Fixing
+  // cells tightens their neighbours' bounds, so the test repeats on the rest while it fixes many.
+  // The raised terms are counted in the first round: over the move as posed.
+  int64_t raised_terms = -1;
+  for (int round = 0; round < 4; ++round) {
+    const std::size_t before = vars_.size();
+    keep_.resize(vars_.size());
+    const int64_t raised = tbb::parallel_reduce(
+        Range(0, static_cast<uint32_t>(vars_.size()), kGrain), int64_t{0},
+        [&](const Range& r, int64_t raised_sum) {
+          for (uint32_t k = r.begin(); k != r.end(); ++k) {
+            int64_t least = int64_t{u1_[k]} - u0_[k], most = least;  // bounds of E'(x_k = 1) - E'(x_k = 0)
+            neighbours(k, [&](int d, std::size_t nc) {
+              const int32_t j = node_of_[nc];
+              const int cls = kClass[d];
+              if (j < 0) {
+                const int64_t diff = int64_t{e_.psi(l1_[k], labels[nc], cls)} - e_.psi(l0_[k], labels[nc], cls);
+                least += diff;
+                most += diff;
+                return;
+              }
+              bool raised = false;
+              const auto uj = static_cast<uint32_t>(j);
+              const Pair p = pairTerm(k, uj, cls, raised);
+              raised_sum += raised && k < uj;
+              // With x_j = 0 and x_j = 1: from the lower end C - A and D - B, from the upper B - A and D - C.
+              const int64_t when0 = k < uj ? p.C - p.A : p.B - p.A, when1 = k < uj ? p.D - p.B : p.D - p.C;
+              least += std::min(when0, when1);
+              most += std::max(when0, when1);
+            });
+            keep_[k] = !((cur_[k] == 0 && least > 0) || (cur_[k] == 1 && most < 0));
+          }
+          return raised_sum;
+        },
+        std::plus<>());
+    {
+      uint32_t m = 0;
+      for (uint32_t k = 0; k < vars_.size(); ++k) {
+        if (!keep_[k]) {
+          node_of_[vars_[k]] = -1;
+          continue;
+        }
+        vars_[m] = vars_[k];
+        l0_[m] = l0_[k];
+        l1_[m] = l1_[k];
+        u0_[m] = u0_[k];
+        u1_[m] = u1_[k];
+        cur_[m] = cur_[k];
+        node_of_[vars_[m]] = static_cast<int32_t>(m);
+        ++m;
+      }
+      vars_.resize(m);
+      l0_.resize(m);
+      l1_.resize(m);
+      u0_.resize(m);
+      u1_.resize(m);
+      cur_.resize(m);
+    }
+    if (raised_terms < 0) raised_terms = raised;
+    if (vars_.size() == before || 20 * (before - vars_.size()) < before) break;
+  }
+  out.truncated = raised_terms;
+  const uint32_t n = static_cast<uint32_t>(vars_.size());
+  if (n == 0) return out;
+
+  // Arcs sorted by source: per variable its arcs to variable neighbours, then to s and t;
+  // then s -> every variable, t -> every variable. Vertices: variables 0..n-1, s = n, t = n + 1.
+  // They go straight into the graph's compressed rows (Boost's CSR storage, m_forward, is a
+  // public member), refilled in place so its arrays keep their capacity between moves. The
+  // variables are handled in parallel blocks (each writes its own arcs and terms; the energy
+  // sums are integers, so the graph is the same on any number of threads).
+  const uint32_t s = n, t = n + 1;
+  Graph& g = graph_;
+  std::vector<uint32_t>& row = g.m_forward.m_rowstart;
+  std::vector<uint32_t>& col = g.m_forward.m_column;
+  row.resize(static_cast<std::size_t>(n) + 3);
+  // Every entry a later read uses is written below (a variable's arc towards each neighbour inside
+  // the grid): no clearing of the whole array per move.
+  arc_dir_.resize(static_cast<std::size_t>(n) * 8);
+  tarc_.resize(n);
+  th0_.resize(n);
+  th1_.resize(n);
+  const int L = e_.num_labels;
+  const int32_t* table = e_.pairwise_dir.empty() ? e_.pairwise.data() : e_.pairwise_dir.data();
+  const std::size_t class_stride = e_.pairwise_dir.empty() ? 0 : static_cast<std::size_t>(L) * L;
   // Arcs per variable (its variable neighbours, s and t), then where each variable's row starts.
   tbb::parallel_for(Range(0, n, kGrain), [&](const Range& r) {
     for (uint32_t k = r.begin(); k != r.end(); ++k) {
@@ -186,8 +282,9 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
   std::vector<int64_t>& cap = cap_;
   std::vector<int64_t>& res = res_;
   std::vector<Edge>& rev = rev_;
-  cap.assign(arcs, 0);
-  res.assign(arcs, 0);
+  // Every capacity is written below; the residuals are Boost's to set (to the capacities).
+  cap.resize(arcs);
+  res.resize(arcs);
   rev.resize(arcs);
   // Pair terms (Kolmogorov & Zabih 2004): E(x_k, x_j) with A=E(0,0), B=E(0,1), C=E(1,0), D=E(1,1)
   // becomes A + (C-A) x_k + (D-C) x_j + (B+C-A-D) [x_k=0, x_j=1]; x = 0 is the source side. Both
@@ -204,31 +301,16 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
             const uint32_t j = col[a];
             const int d = adir_[a];
             rev[a] = Edge(j, static_cast<uint32_t>(arc_dir_[j * 8 + (7 - d)]));
-            const uint32_t lo = std::min(k, j), hi = std::max(k, j);
-            const int cls = kClass[d];
-            int64_t A = e_.psi(l0_[lo], l0_[hi], cls), B = e_.psi(l0_[lo], l1_[hi], cls);
-            int64_t C = e_.psi(l1_[lo], l0_[hi], cls), D = e_.psi(l1_[lo], l1_[hi], cls);
-            const int64_t deficit = A + D - B - C;
-            if (deficit > 0) {
-              // Raise the off-diagonal entries the current labelling does not use (Rother et al.
-              // 2005): E' >= E and E'(current) = E(current).
-              const bool b_used = cur_[lo] == 0 && cur_[hi] == 1, c_used = cur_[lo] == 1 && cur_[hi] == 0;
-              if (b_used) {
-                C += deficit;
-              } else if (c_used) {
-                B += deficit;
-              } else {
-                B += deficit / 2;
-                C += deficit - deficit / 2;
-              }
-              if (k == lo) ++sums.truncated;
-            }
-            if (k == lo) {
+            bool raised = false;
+            const auto [A, B, C, D] = pairTerm(k, j, kClass[d], raised);
+            if (raised && k < j) ++sums.truncated;
+            if (k < j) {
               sums.constant += A;
               th1_[k] += C - A;
-              cap[a] += B + C - A - D;
+              cap[a] = B + C - A - D;
             } else {
               th1_[k] += D - C;
+              cap[a] = 0;  // the pair's capacity is on the lower variable's arc; this is its reverse
             }
           }
         }
@@ -239,7 +321,6 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
         a.truncated += b.truncated;
         return a;
       });
-  out.truncated = pairs.truncated;
   const int64_t constant = pairs.constant + tbb::parallel_reduce(
                                                 Range(0, n, kGrain), int64_t{0},
                                                 [&](const Range& r, int64_t sum) {
@@ -248,6 +329,8 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
                                                     sum += m;
                                                     cap[base_s + k] = th1_[k] - m;    // s -> k is cut when x_k = 1
                                                     cap[tarc_[k] + 1] = th0_[k] - m;  // k -> t is cut when x_k = 0
+                                                    cap[tarc_[k]] = 0;                // k -> s, t -> k: the
+                                                    cap[base_t + k] = 0;              // reverses
                                                     rev[base_s + k] = Edge(k, tarc_[k]);
                                                     rev[tarc_[k]] = Edge(s, base_s + k);
                                                     rev[base_t + k] = Edge(k, tarc_[k] + 1);
@@ -260,7 +343,7 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
   std::vector<boost::default_color_type>& color = color_;
   std::vector<Edge>& pred = pred_;
   std::vector<long>& dist = dist_;
-  color.assign(n + 2, boost::default_color_type{});
+  color.resize(n + 2);  // Boost's max-flow starts every vertex gray
   pred.resize(n + 2);
   dist.assign(n + 2, 0);
   const auto eidx = get(boost::edge_index, g);
@@ -278,7 +361,7 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
 
   const int64_t delta_exact = changeEnergy(labels);
   const int64_t delta_cut = constant + flow - e_cur;
-  if (out.truncated == 0 && delta_cut != delta_exact)
+  if (pairs.truncated == 0 && delta_cut != delta_exact)
     throw std::logic_error("graph-cut move energy " + std::to_string(delta_cut) + " differs from direct energy " +
                            std::to_string(delta_exact));
   if (delta_exact < 0) {
@@ -287,7 +370,7 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
       labels[vars_[k]] = next_[k] ? l1_[k] : l0_[k];
       changed_.push_back(vars_[k]);
     }
-    out.delta = out.truncated == 0 ? delta_cut : delta_exact;
+    out.delta = pairs.truncated == 0 ? delta_cut : delta_exact;
     out.changed = true;
   }
   for (uint32_t k = 0; k < n; ++k) node_of_[vars_[k]] = -1;

@@ -66,6 +66,7 @@ class BinaryMoveSolver {
   std::vector<uint16_t> l0_, l1_;
   std::vector<int32_t> u0_, u1_;  // unary cost of l0_ / l1_
   std::vector<uint8_t> cur_, next_;
+  std::vector<uint8_t> keep_;  // variable -> stays in the move (not fixed by dominance)
   std::vector<int64_t> th0_, th1_;
   std::vector<int32_t> arc_dir_;  // variable * 8 + direction -> arc index, -1 if none
   std::vector<uint8_t> adir_;     // arc -> its direction (arcs between variables)
