@@ -145,7 +145,7 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
   for (int round = 0; round < 4; ++round) {
     const std::size_t before = vars_.size();
     keep_.resize(vars_.size());
-    const int64_t raised = tbb::parallel_reduce(
+    const int64_t raised_here = tbb::parallel_reduce(
         Range(0, static_cast<uint32_t>(vars_.size()), kGrain), int64_t{0},
         [&](const Range& r, int64_t raised_sum) {
           for (uint32_t k = r.begin(); k != r.end(); ++k) {
@@ -196,7 +196,7 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
       u1_.resize(m);
       cur_.resize(m);
     }
-    if (raised_terms < 0) raised_terms = raised;
+    if (raised_terms < 0) raised_terms = raised_here;
     if (vars_.size() == before || 20 * (before - vars_.size()) < before) break;
   }
   out.truncated = raised_terms;
