@@ -138,7 +138,9 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
   // of Boros and Hammer): when E'(x_k = other) - E'(x_k = current) is positive whatever the
   // neighbours take, flipping x_k back from any labelling lowers E'. Such a cell leaves the move
   // and is a fixed neighbour of the others: the minimum and the minimisers are those of the whole
-  // move (in an expansion most cells where alpha is a candidate stay far from taking it). Fixing
+  // move (where a term was raised, the fixed cell's terms with the rest are then exact again: the
+  // move is still one that never raises E). In an expansion most cells where alpha is a candidate
+  // stay far from taking it. Fixing
   // cells tightens their neighbours' bounds, so the test repeats on the rest while it fixes many.
   // The raised terms are counted in the first round: over the move as posed.
   int64_t raised_terms = -1;
