@@ -108,17 +108,18 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
   // The pair term of variables k and j as the cut minimises it, E'(x_lo, x_hi) = {A, B, C, D} for
   // (0,0), (0,1), (1,0), (1,1) with lo < hi: a term that is not submodular (B + C < A + D) is raised
   // on the configurations the current labelling does not use (Rother et al. 2005), so E' >= E and
-  // E'(current) = E(current). Sets `raised` when it was.
+  // E'(current) = E(current); `raised` tells whether it was.
   struct Pair {
     int64_t A, B, C, D;
+    bool raised;
   };
-  const auto pairTerm = [&](uint32_t k, uint32_t j, int cls, bool& raised) {
+  const auto pairTerm = [&](uint32_t k, uint32_t j, int cls) {
     const uint32_t lo = std::min(k, j), hi = std::max(k, j);
     Pair p{e_.psi(l0_[lo], l0_[hi], cls), e_.psi(l0_[lo], l1_[hi], cls), e_.psi(l1_[lo], l0_[hi], cls),
-           e_.psi(l1_[lo], l1_[hi], cls)};
+           e_.psi(l1_[lo], l1_[hi], cls), false};
     const int64_t deficit = p.A + p.D - p.B - p.C;
-    raised = deficit > 0;
-    if (raised) {
+    p.raised = deficit > 0;
+    if (p.raised) {
       const bool b_used = cur_[lo] == 0 && cur_[hi] == 1, c_used = cur_[lo] == 1 && cur_[hi] == 0;
       if (b_used) {
         p.C += deficit;
@@ -161,10 +162,9 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
                 most += diff;
                 return;
               }
-              bool raised = false;
               const auto uj = static_cast<uint32_t>(j);
-              const Pair p = pairTerm(k, uj, cls, raised);
-              raised_sum += raised && k < uj;
+              const Pair p = pairTerm(k, uj, cls);
+              raised_sum += p.raised && k < uj;
               // With x_j = 0 and x_j = 1: from the lower end C - A and D - B, from the upper B - A and D - C.
               const int64_t when0 = k < uj ? p.C - p.A : p.B - p.A, when1 = k < uj ? p.D - p.B : p.D - p.C;
               least += std::min(when0, when1);
@@ -303,8 +303,7 @@ MoveOutcome BinaryMoveSolver::run(std::vector<uint16_t>& labels) {
             const uint32_t j = col[a];
             const int d = adir_[a];
             rev[a] = Edge(j, static_cast<uint32_t>(arc_dir_[j * 8 + (7 - d)]));
-            bool raised = false;
-            const auto [A, B, C, D] = pairTerm(k, j, kClass[d], raised);
+            const auto [A, B, C, D, raised] = pairTerm(k, j, kClass[d]);
             if (raised && k < j) ++sums.truncated;
             if (k < j) {
               sums.constant += A;

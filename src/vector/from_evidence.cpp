@@ -65,6 +65,7 @@ std::size_t pruneUnfittedGlass(glass::CellEvidence& e, const VectorMap& floorpla
 }
 
 std::size_t fillFittedGlass(glass::CellEvidence& e, const VectorMap& floorplan) {
+  if (floorplan.count(Material::Glass) == 0) return 0;
   const LabelGrid on = glassRaster(e, floorplan, 0.0, true);
   std::size_t changed = 0;
   for (std::size_t i = 0; i < e.label.size(); ++i) {
