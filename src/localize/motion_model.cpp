@@ -18,27 +18,39 @@ OdometryDelta odometryDelta(const Pose2& from, const Pose2& to) {
   return d;
 }
 
-Pose2 sampleMotionOdometry(const Pose2& x, const OdometryDelta& u, const OdometryNoise& a, std::mt19937_64& rng) {
-  std::normal_distribution<double> n01(0.0, 1.0);
+MotionSpread motionSpread(const OdometryDelta& u, const OdometryNoise& a) {
   const double r1 = u.rot1 * u.rot1, t2 = u.trans * u.trans, t = std::abs(u.trans);
   const double turn = u.rot1 + u.rot2;  // the heading change the odometry reports
+  MotionSpread s;
   // The direction of travel: Probabilistic Robotics eq. 5.37 (a1 rot1^2 + a2 trans^2) plus the
   // random walks; it moves the particle, its heading comes from the turn below.
-  const double walk_rot = 0.5 * a.walk_heading * t;
-  const double rot1 =
-      u.rot1 - std::sqrt(a.alpha1 * r1 + a.alpha2 * t2 + a.walk_turn * std::abs(u.rot1) + walk_rot) * n01(rng);
+  s.rot1 = std::sqrt(a.alpha1 * r1 + a.alpha2 * t2 + a.walk_turn * std::abs(u.rot1) + 0.5 * a.walk_heading * t);
   // eq. 5.38, with the turn for the rotations (see below).
-  const double trans = u.trans - std::sqrt(a.alpha3 * t2 + a.alpha4 * turn * turn + a.walk_trans * t) * n01(rng);
+  s.trans = std::sqrt(a.alpha3 * t2 + a.alpha4 * turn * turn + a.walk_trans * t);
   // The heading: the noise of the turn the robot made (eq. 5.37/5.39 with rot1 + rot2; the
   // translation's part a2 trans^2 in both, as in the book), not of the two rotations apart. The
   // direction of a short step is mostly noise itself (a scan matcher's jitter, a laser off the
   // turning axis swinging on an arc): split into "turn 89 deg, move 1 cm, turn back 88 deg", the
   // book's rotations would add 5.5 deg to the heading and alpha4 7 cm to the step for a turn of a
   // degree (Freiburg 079's rooms, rotating in place: the cloud's heading ran off by 40-90 deg).
-  const double heading_sd =
+  s.heading =
       std::sqrt(a.alpha1 * turn * turn + 2.0 * a.alpha2 * t2 + a.walk_turn * std::abs(turn) + a.walk_heading * t);
-  const double heading = x.theta + rot1;
-  return {x.t + trans * Vec2(std::cos(heading), std::sin(heading)), x.theta + turn - heading_sd * n01(rng)};
+  return s;
+}
+
+Pose2 applyMotion(const Pose2& x, const OdometryDelta& u, const MotionSpread& s, double n_rot1, double n_trans,
+                  double n_heading) {
+  const double heading = x.theta + (u.rot1 - s.rot1 * n_rot1);
+  const double trans = u.trans - s.trans * n_trans;
+  return {x.t + trans * Vec2(std::cos(heading), std::sin(heading)),
+          x.theta + (u.rot1 + u.rot2) - s.heading * n_heading};
+}
+
+Pose2 sampleMotionOdometry(const Pose2& x, const OdometryDelta& u, const OdometryNoise& a, std::mt19937_64& rng) {
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const MotionSpread s = motionSpread(u, a);
+  const double n_rot1 = n01(rng), n_trans = n01(rng);
+  return applyMotion(x, u, s, n_rot1, n_trans, n01(rng));
 }
 
 }  // namespace glassmap::localize

@@ -7,10 +7,14 @@
 #include <limits>
 
 #include "glassmap/core/error.hpp"
+#include "glassmap/core/split_mix.hpp"
 #include "hypotheses.hpp"
 
 namespace glassmap::localize {
 namespace {
+
+// Particles per block of the motion step (each block one random stream).
+constexpr std::size_t kMotionBlock = 256;
 
 VectorMap wallsOf(const VectorMap& map) {
   VectorMap walls;
@@ -126,8 +130,22 @@ void ParticleFilter::predict(const OdometryDelta& delta) {
   moved_ += std::abs(delta.trans) + 0.5 * (std::abs(delta.rot1) + std::abs(delta.rot2));
   const Pose2 step(delta.trans * Vec2(std::cos(delta.rot1), std::sin(delta.rot1)), delta.rot1 + delta.rot2);
   odom_ = odom_ * step;
-  for (Hypothesis& h : hyps_) {
-    for (Particle& p : h.particles) p.pose = sampleMotionOdometry(p.pose, delta, opt_.noise, rng_);
+  // Each block of particles draws from its own stream, seeded from the filter's generator, the
+  // hypothesis and the block: the blocks run in parallel and the result does not depend on the
+  // thread count.
+  const MotionSpread spread = motionSpread(delta, opt_.noise);
+  const std::uint64_t step_seed = rng_();
+  for (std::size_t hi = 0; hi < hyps_.size(); ++hi) {
+    Hypothesis& h = hyps_[hi];
+    const std::size_t n = h.particles.size();
+    const std::size_t blocks = (n + kMotionBlock - 1) / kMotionBlock;
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+      SplitMix gen(splitMix64(step_seed ^ splitMix64(hi << 32 | b)));
+      for (std::size_t i = b * kMotionBlock; i < std::min(n, (b + 1) * kMotionBlock); ++i) {
+        const double n_rot1 = gen.normal(), n_trans = gen.normal();
+        h.particles[i].pose = applyMotion(h.particles[i].pose, delta, spread, n_rot1, n_trans, gen.normal());
+      }
+    });
     h.estimate = h.estimate * step;
   }
 }

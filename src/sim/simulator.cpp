@@ -6,6 +6,7 @@
 #include <random>
 
 #include "glassmap/core/error.hpp"
+#include "glassmap/core/split_mix.hpp"
 #include "glassmap/geometry/optics.hpp"
 #include "glassmap/geometry/ray_caster.hpp"
 #include "glassmap/sim/sensor_profile.hpp"
@@ -15,14 +16,6 @@ namespace glassmap::sim {
 namespace {
 
 constexpr std::size_t kOutcomes = static_cast<std::size_t>(BeamOutcome::kCount);
-
-// SplitMix64: independent, reproducible seeds for each random stream (odometry, people, scan k).
-std::uint64_t mix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 
 // A group of people walking in a straight line, bouncing off the floor's bounding box.
 struct Walker {
@@ -193,9 +186,9 @@ SimResult simulate(const Scene& scene, const SimOptions& options) {
   const std::size_t kidnapped = applyKidnap(truth, dt, options.kidnap, [&](double seconds) {
     return sampleTrajectory(scene.trajectory, dt, seconds, options.repeat_until_limit);
   });
-  std::mt19937_64 odom_rng(mix(options.seed ^ 0x0d0d0d0dULL));
+  std::mt19937_64 odom_rng(splitMix64(options.seed ^ 0x0d0d0d0dULL));
   const std::vector<Pose2> odom = simulateOdometry(truth, scene.motion, odom_rng, kidnapped);
-  std::mt19937_64 people_rng(mix(options.seed ^ 0x9e0b1eULL));
+  std::mt19937_64 people_rng(splitMix64(options.seed ^ 0x9e0b1eULL));
   const Eigen::AlignedBox2d box = scene.map.bounds();
   const std::vector<Walker> walkers = makeWalkers(scene.people, box, people_rng);
 
@@ -210,7 +203,7 @@ SimResult simulate(const Scene& scene, const SimOptions& options) {
   result.outcomes.assign(n, std::vector<BeamOutcome>(beams, BeamOutcome::MaxRange));
 
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
-    std::mt19937_64 rng(mix(options.seed + 0x5ca9ULL * (k + 1)));
+    std::mt19937_64 rng(splitMix64(options.seed + 0x5ca9ULL * (k + 1)));
     std::normal_distribution<double> gauss(0.0, 1.0);
     const double time = static_cast<double>(k) * dt;
     const Pose2 T_map_laser = truth[k] * laser.T_base_laser;

@@ -278,13 +278,14 @@ double slipRun(double near_share, std::uint64_t seed = 3) {
 }
 
 TEST(ParticleFilter, AProbeLooksNearTheEstimateFirst) {
-  // Six seeds: found every time; from uniform draws alone found in 2 of 6 (still 1.3-8 m off in 4).
+  // Twenty seeds: found every time; from uniform draws alone still 1.3-8 m off in 3 of 20 (over
+  // seeds 1-90: the near share misses in 2, uniform draws alone in 21).
   int lost_uniform = 0;
-  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
     EXPECT_LT(slipRun(FilterOptions{}.probe_near_share, seed), 0.1) << "seed " << seed;
     lost_uniform += slipRun(0.0, seed) > 0.5;
   }
-  EXPECT_GE(lost_uniform, 3);
+  EXPECT_GE(lost_uniform, 2);
 }
 
 std::vector<Particle> runFilter(int threads) {

@@ -10,14 +10,22 @@
 
 namespace glassmap {
 
+/// SplitMix64's step and output function (Steele, Lea and Flood 2014) on one value: independent,
+/// reproducible seeds for separate random streams from one seed and a stream's index.
+inline std::uint64_t splitMix64(std::uint64_t z) {
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
 class SplitMix {
  public:
   explicit SplitMix(std::uint64_t seed) : s_(seed) {}
   std::uint64_t next() {
-    std::uint64_t z = (s_ += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
+    const std::uint64_t z = splitMix64(s_);
+    s_ += 0x9e3779b97f4a7c15ULL;
+    return z;
   }
   /// Uniform in [0, 1), from the top 53 bits.
   double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }

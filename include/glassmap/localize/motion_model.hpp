@@ -47,4 +47,18 @@ OdometryDelta odometryDelta(const Pose2& from, const Pose2& to);
 Pose2 sampleMotionOdometry(const Pose2& x, const OdometryDelta& delta, const OdometryNoise& noise,
                            std::mt19937_64& rng);
 
+/// The standard deviations sampleMotionOdometry draws with: they depend on the increment and the
+/// noise only, so a filter computes them once per step for all of its particles.
+struct MotionSpread {
+  double rot1 = 0.0;     ///< of the direction of travel [rad]
+  double trans = 0.0;    ///< of the translation [m]
+  double heading = 0.0;  ///< of the heading change [rad]
+};
+MotionSpread motionSpread(const OdometryDelta& delta, const OdometryNoise& noise);
+
+/// The pose sampleMotionOdometry returns for the standard normal draws n_rot1, n_trans, n_heading
+/// (in that order of drawing).
+Pose2 applyMotion(const Pose2& x, const OdometryDelta& delta, const MotionSpread& spread, double n_rot1, double n_trans,
+                  double n_heading);
+
 }  // namespace glassmap::localize
