@@ -141,7 +141,8 @@ void ParticleFilter::predict(const OdometryDelta& delta) {
     const std::size_t blocks = (n + kMotionBlock - 1) / kMotionBlock;
     tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
       SplitMix gen(splitMix64(step_seed ^ splitMix64(hi << 32 | b)));
-      for (std::size_t i = b * kMotionBlock; i < std::min(n, (b + 1) * kMotionBlock); ++i) {
+      const std::size_t end = std::min(n, (b + 1) * kMotionBlock);
+      for (std::size_t i = b * kMotionBlock; i < end; ++i) {
         const double n_rot1 = gen.normal(), n_trans = gen.normal();
         h.particles[i].pose = applyMotion(h.particles[i].pose, delta, spread, n_rot1, n_trans, gen.normal());
       }
