@@ -466,6 +466,14 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       ++stats.rejected_transient;
       continue;
     }
+    // Seen in one visit only (by_visit.scans counts the visits with two near-normal beams or more;
+    // 0 when the visit test is off): the within-scan test alone decides, at a weaker significance.
+    if (by_visit[r].scans == 1 && o.max_one_visit_transient_p > o.max_transient_p &&
+        sparse::isTransient(coherence[r], o.max_one_visit_transient_p, o.min_transient_correlation)) {
+      ++stats.rejected_transient;
+      ++stats.rejected_transient_one_visit;
+      continue;
+    }
     if (sparse::isTransient(by_visit[r], o.max_transient_p, o.min_visit_correlation)) {
       ++stats.rejected_one_visit;
       continue;

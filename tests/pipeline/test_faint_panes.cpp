@@ -206,6 +206,38 @@ TEST(FaintPanes, PeopleThatAnsweredOneOfTheRobotsVisitsAreNoPanes) {
   EXPECT_LT(n.off_glass, n_was.off_glass);
 }
 
+// sick-lms200 on the glass-free floor with 5 people per 100 m^2, seed 3 (tools/sensor_sweep.py
+// --profiles sick-lms200 --people 5 --seed 3 no-glass): the sparse-pane search drew four "panes"
+// (1.6 m) where people had walked and the map kept 31 glass cells on two glass segments. Two of
+// those runs were seen in one of the robot's visits only (so the visit test could not speak), their
+// near-normal beams returning together within scans at z 2.4-2.6 (p 0.004-0.009) and correlation
+// 0.31-0.37, short of the 1e-3 the within-scan test asks of any run (the other two: correlation
+// 0.22 and 0.25 minus a hair, under the floor; the later steps clear their cells).
+// SparsePaneOptions::max_one_visit_transient_p asks p < 0.05 of a run seen in one visit only.
+TEST(FaintPanes, PeopleSeenInOneVisitNeedLessToBeTransients) {
+  sim::Scene scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / "no-glass" / "scene.yaml");
+  sim::applySensorProfile(scene, sim::sensorProfile("sick-lms200"));
+  scene.laser.rate = 10.0;
+  scene.people.density = 5.0;
+  sim::SimOptions so;
+  so.seed = 3;
+  const LaserLog log = sim::simulate(scene, so).log;
+  const MapResult r = mapLog(log);
+  MapOptions strict;
+  strict.sparse.max_one_visit_transient_p = 0.0;
+  const MapResult was = mapLog(log, strict);
+  const std::size_t off = countPaneCells(scene.map, r.evidence).off_glass;
+  const std::size_t off_was = countPaneCells(scene.map, was.evidence).off_glass;
+  std::printf("one-visit transients %zu; sparse panes %zu (%.2f m), without the rule %zu (%.2f m)\n",
+              r.sparse.rejected_transient_one_visit, r.sparse.found.size(), r.sparse.metres, was.sparse.found.size(),
+              was.sparse.metres);
+  EXPECT_GT(r.sparse.rejected_transient_one_visit, 0u);
+  EXPECT_EQ(was.sparse.rejected_transient_one_visit, 0u);
+  EXPECT_LT(r.sparse.metres, was.sparse.metres);
+  EXPECT_GT(off_was, 0u);  // what the rule takes away (a glass-free floor: every glass cell is false)
+  EXPECT_EQ(off, 0u);
+}
+
 // random:20: peak 0.52, lobe sigma 2.5 deg, 70% of the other beams reflected; its mirror images
 // of the room drawn as glass all around it (cell F1@2 0.31) until the opaque-glass test took
 // images seen only through other glass for what they are (glass/opaque_glass.hpp). In the glass
