@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -145,6 +146,21 @@ TEST(FaintPanes, TheMrfKeepsAPaneTheClassifierFoundInOneCellOfSeveral) {
   EXPECT_LE(static_cast<double>(n.off_glass), 0.1 * static_cast<double>(n.on));
 }
 
+// maps/<name> with `laser`'s profile at 10 scans/s and 5 people per 100 m^2 walking.
+sim::Scene peopleScene(const char* name, const char* laser) {
+  sim::Scene scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / name / "scene.yaml");
+  sim::applySensorProfile(scene, sim::sensorProfile(laser));
+  scene.laser.rate = 10.0;
+  scene.people.density = 5.0;
+  return scene;
+}
+
+LaserLog simulateLog(const sim::Scene& scene, std::uint64_t seed) {
+  sim::SimOptions so;
+  so.seed = seed;
+  return sim::simulate(scene, so).log;
+}
+
 // The search (opt-in) where it still fires: a glass-free floor with 5 people per 100 m^2 (seed 1,
 // as tools/sensor_sweep.py --people 5 --seed 1 simulates it). The first pass draws glass only on
 // people's arcs, which the calibration leaves out as transients; the broad lobe's pass then draws
@@ -154,9 +170,7 @@ TEST(FaintPanes, TheSearchFitsNoLobeToPeopleOnAGlassFreeFloor) {
   sim::Scene scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / "no-glass" / "scene.yaml");
   scene.people.density = 5.0;
   scene.laser.rate = 10.0;
-  sim::SimOptions so;
-  so.seed = 1;
-  const LaserLog log = sim::simulate(scene, so).log;
+  const LaserLog log = simulateLog(scene, 1);
   MapOptions search;
   search.lobe_search = true;
   const MapResult r = mapLog(log, search);
@@ -180,13 +194,8 @@ TEST(FaintPanes, TheSearchFitsNoLobeToPeopleOnAGlassFreeFloor) {
 // answered one pass only (by visit z 22-38, correlation 0.06-0.09; the room's panes in seed 1:
 // z -0.5 to 2.1, correlation 0.004 at most): SparsePaneOptions::max_visit_gap_s.
 TEST(FaintPanes, PeopleThatAnsweredOneOfTheRobotsVisitsAreNoPanes) {
-  sim::Scene scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / "glass-room" / "scene.yaml");
-  sim::applySensorProfile(scene, sim::sensorProfile("rplidar-a2"));
-  scene.laser.rate = 10.0;
-  scene.people.density = 5.0;
-  sim::SimOptions so;
-  so.seed = 2;
-  const LaserLog log = sim::simulate(scene, so).log;
+  const sim::Scene scene = peopleScene("glass-room", "rplidar-a2");
+  const LaserLog log = simulateLog(scene, 2);
   const MapResult r = mapLog(log);
   MapOptions scans_only;
   scans_only.sparse.max_visit_gap_s = 0.0;
@@ -215,13 +224,8 @@ TEST(FaintPanes, PeopleThatAnsweredOneOfTheRobotsVisitsAreNoPanes) {
 // 0.22 and 0.25 minus a hair, under the floor; the later steps clear their cells).
 // SparsePaneOptions::max_one_visit_transient_p asks p < 0.05 of a run seen in one visit only.
 TEST(FaintPanes, PeopleSeenInOneVisitNeedLessToBeTransients) {
-  sim::Scene scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / "no-glass" / "scene.yaml");
-  sim::applySensorProfile(scene, sim::sensorProfile("sick-lms200"));
-  scene.laser.rate = 10.0;
-  scene.people.density = 5.0;
-  sim::SimOptions so;
-  so.seed = 3;
-  const LaserLog log = sim::simulate(scene, so).log;
+  const sim::Scene scene = peopleScene("no-glass", "sick-lms200");
+  const LaserLog log = simulateLog(scene, 3);
   const MapResult r = mapLog(log);
   MapOptions strict;
   strict.sparse.max_one_visit_transient_p = 0.0;
