@@ -467,8 +467,9 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       continue;
     }
     // Seen in one visit only (by_visit.scans counts the visits with two near-normal beams or more;
-    // 0 when the visit test is off): the within-scan test alone decides, at a weaker significance.
-    if (by_visit[r].scans == 1 && o.max_one_visit_transient_p > o.max_transient_p &&
+    // 0 when the visit test is off): the within-scan test alone decides, at a weaker significance
+    // (a p at most max_transient_p rejects nothing the test above kept).
+    if (by_visit[r].scans == 1 &&
         sparse::isTransient(coherence[r], o.max_one_visit_transient_p, o.min_transient_correlation)) {
       ++stats.rejected_transient;
       ++stats.rejected_transient_one_visit;

@@ -146,10 +146,11 @@ TEST(FaintPanes, TheMrfKeepsAPaneTheClassifierFoundInOneCellOfSeveral) {
   EXPECT_LE(static_cast<double>(n.off_glass), 0.1 * static_cast<double>(n.on));
 }
 
-// maps/<name> with `laser`'s profile at 10 scans/s and 5 people per 100 m^2 walking.
-sim::Scene peopleScene(const char* name, const char* laser) {
+// maps/<name> with `laser`'s profile (the scene's own laser: none) at 10 scans/s and 5 people per
+// 100 m^2 walking.
+sim::Scene peopleScene(const char* name, const char* laser = nullptr) {
   sim::Scene scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / name / "scene.yaml");
-  sim::applySensorProfile(scene, sim::sensorProfile(laser));
+  if (laser) sim::applySensorProfile(scene, sim::sensorProfile(laser));
   scene.laser.rate = 10.0;
   scene.people.density = 5.0;
   return scene;
@@ -167,10 +168,7 @@ LaserLog simulateLog(const sim::Scene& scene, std::uint64_t seed) {
 // "panes" that return almost nothing near their normal, and the lobe fitted to them (peak 0.013 at
 // the time of writing) is refused as fainter than glass: the map keeps the default lobe.
 TEST(FaintPanes, TheSearchFitsNoLobeToPeopleOnAGlassFreeFloor) {
-  sim::Scene scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / "no-glass" / "scene.yaml");
-  scene.people.density = 5.0;
-  scene.laser.rate = 10.0;
-  const LaserLog log = simulateLog(scene, 1);
+  const LaserLog log = simulateLog(peopleScene("no-glass"), 1);
   MapOptions search;
   search.lobe_search = true;
   const MapResult r = mapLog(log, search);

@@ -81,7 +81,8 @@ struct SparsePaneOptions {
   /// and 14 random lasers on four glass scenes; 5 lasers on three scenes with 5 people per 100 m^2,
   /// seeds 1-4): panes seen in one visit correlate 0.13 at most (z 2.2 there, most near 0), people's
   /// one-visit runs that the 1e-3 kept up to 0.47 at z 2.0-2.7. It rejected 9 runs over the people
-  /// logs and none without people. 0 (or anything up to max_transient_p): no such test.
+  /// logs and none without people. 0, or anything up to max_transient_p: no other run than the test
+  /// above rejects.
   double max_one_visit_transient_p = 0.05;
   /// A run is also a transient when its near-normal beams return together by visit (the robot's
   /// passes along its normal, max_visit_gap_s apart at least: glass/scan_coherence.hpp
@@ -117,13 +118,13 @@ struct SparsePaneStats {
   std::size_t rejected_chance = 0;     ///< runs that chance explains (a contrario)
   std::size_t rejected_opaque = 0;     ///< runs the beams do not pass (a wall's front)
   std::size_t rejected_transient = 0;  ///< runs whose near-normal beams return scan by scan (people walking by)
-  std::size_t rejected_one_visit = 0;  ///< runs that answered one of the robot's visits along their normal only
-  /// ...of rejected_transient, runs seen in one visit only that only max_one_visit_transient_p rejects
+  /// ...of those, runs seen in one visit only that only max_one_visit_transient_p rejects
   std::size_t rejected_transient_one_visit = 0;
-  std::size_t rejected_through = 0;  ///< runs seen through another pane (mirror images, shifted walls)
-  std::size_t cells_labelled = 0;    ///< empty cells relabelled glass
-  double metres = 0.0;               ///< total length of the panes found [m]
-  std::vector<SparsePane> found;     ///< the panes, in the order found
+  std::size_t rejected_one_visit = 0;  ///< runs that answered one of the robot's visits along their normal only
+  std::size_t rejected_through = 0;    ///< runs seen through another pane (mirror images, shifted walls)
+  std::size_t cells_labelled = 0;      ///< empty cells relabelled glass
+  double metres = 0.0;                 ///< total length of the panes found [m]
+  std::vector<SparsePane> found;       ///< the panes, in the order found
 };
 
 /// Finds sparse panes in the beams of `log` (as the mapping used them) and draws them into
