@@ -146,8 +146,11 @@ void run(MapArgs& args) {
           result.sparse.weak_returns, result.sparse.rejected_chance, result.sparse.rejected_opaque,
           result.sparse.rejected_transient, result.sparse.rejected_through);
     if (options.opaque_glass)
-      std::printf("%-22s %zu of %zu glass cells relabelled (the beams crossing them stop just behind)\n",
-                  "opaque glass", result.opaque.relabelled, result.opaque.glass_cells);
+      std::printf(
+          "%-22s %zu of %zu glass cells relabelled (the beams crossing them stop just behind, or %zu panes of %zu "
+          "came and went: people)\n",
+          "opaque glass", result.opaque.relabelled, result.opaque.glass_cells, result.opaque.transient_panes,
+          result.opaque.panes_tested);
     if (options.phantoms)
       std::printf("%-22s %zu cells cleared (%zu of %zu beams through glass folded)\n", "mirror phantoms",
                   phantom.cells_cleared, phantom.folded_beams, phantom.beams_through_glass);

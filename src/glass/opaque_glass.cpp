@@ -15,6 +15,7 @@
 #include <boost/pending/disjoint_sets.hpp>
 
 #include "glass_tiles.hpp"
+#include "glassmap/glass/scan_coherence.hpp"
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
 
@@ -74,6 +75,64 @@ double log10BinomialCdf(int k, int n, double p) {
   return cdf > 0.0 ? std::log10(cdf) : -std::numeric_limits<double>::infinity();
 }
 
+// Per pane (indexed by its representative slot): whether it is a transient (opaque_glass.hpp),
+// from the near-normal beams that met it first (`run`: the pane's slot).
+std::vector<bool> transientPanes(std::vector<sparse::NearNormalBeam>& near, std::size_t slots,
+                                 const OpaqueGlassOptions& o, OpaqueGlassStats& stats) {
+  std::vector<bool> transient(slots, false);
+  if (!(o.max_transient_p > 0.0) || near.empty()) return transient;
+  const double bin = deg2rad(o.lobe_bin_deg);
+  const std::vector<sparse::ScanCoherence> by_scan = sparse::scanCoherence(near, slots, bin);
+  const std::vector<sparse::ScanCoherence> by_visit =
+      o.max_visit_gap_s > 0.0 ? sparse::visitCoherence(near, slots, bin, o.max_visit_gap_s)
+                              : std::vector<sparse::ScanCoherence>(slots);
+  for (std::size_t p = 0; p < slots; ++p) {
+    if (by_scan[p].beams == 0) continue;
+    ++stats.panes_tested;
+    transient[p] = sparse::isTransient(by_scan[p], o.max_transient_p, o.min_transient_correlation) ||
+                   (by_visit[p].scans == 1 &&
+                    sparse::isTransient(by_scan[p], o.max_one_visit_transient_p, o.min_transient_correlation)) ||
+                   sparse::isTransient(by_visit[p], o.max_transient_p, o.min_visit_correlation);
+    stats.transient_panes += transient[p];
+  }
+  return transient;
+}
+
+// Per glass cell of a transient pane: whether it returned near-normal beams in two of the pane's
+// visits or more (a visit: a stretch of the pane's near-normal beams without a gap over max_gap_s).
+// A person standing in front of a pane joins the pane's cells, and the pane, blocked scan by scan,
+// comes out a transient as a whole; the pane's own cells answered every visit, the person's the
+// one it was there for.
+std::vector<bool> returnedInTwoVisits(const std::vector<sparse::NearNormalBeam>& near,
+                                      std::vector<std::pair<std::uint32_t, double>> returned_at,
+                                      const std::vector<std::size_t>& pane, const std::vector<bool>& transient,
+                                      double max_gap_s) {
+  std::vector<bool> stays(pane.size(), false);
+  if (!(max_gap_s > 0.0)) return stays;
+  std::vector<std::vector<double>> times(pane.size());  // per transient pane: its near-normal beams' times
+  for (const sparse::NearNormalBeam& b : near)
+    if (transient[b.run]) times[b.run].push_back(b.time);
+  std::vector<std::vector<double>> starts(pane.size());  // ...and the times its visits start
+  for (std::size_t p = 0; p < pane.size(); ++p) {
+    std::sort(times[p].begin(), times[p].end());
+    for (std::size_t i = 0; i < times[p].size(); ++i)
+      if (i == 0 || times[p][i] - times[p][i - 1] > max_gap_s) starts[p].push_back(times[p][i]);
+  }
+  std::sort(returned_at.begin(), returned_at.end());
+  for (std::size_t i = 0; i < returned_at.size();) {
+    const std::uint32_t c = returned_at[i].first;
+    const std::vector<double>& s = starts[pane[c]];
+    std::ptrdiff_t first_visit = -1;
+    for (; i < returned_at.size() && returned_at[i].first == c; ++i) {
+      if (s.empty()) continue;
+      const std::ptrdiff_t v = std::upper_bound(s.begin(), s.end(), returned_at[i].second) - s.begin() - 1;
+      if (first_visit < 0) first_visit = v;
+      if (v != first_visit) stays[c] = true;
+    }
+  }
+  return stays;
+}
+
 }  // namespace
 
 OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions& beams, const OpaqueGlassOptions& o,
@@ -110,16 +169,20 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
     // Returns that came through another pane first; direct returns and passes along the normal.
     std::vector<std::uint32_t> through, near_own, near_pass;
     std::uint64_t surface = 0, spurious = 0;  // in-scan: readings between two on one surface, and wrong ones
+    std::vector<sparse::NearNormalBeam> near;  // the transient test's: `run` is the pane's slot
+    std::vector<std::pair<std::uint32_t, double>> returned_at;  // ...those returned: the cell's slot, time
   };
   tbb::enumerable_thread_specific<Tally> tallies([&] {
     const std::vector<std::uint32_t> zero(cells.size(), 0);
-    return Tally{zero, zero, zero, zero, zero, zero};
+    return Tally{zero, zero, zero, zero, zero, zero, 0, 0, {}, {}};
   });
   // Along the normal: within half a bin of it (the label's own bin).
   const double cos_near = std::cos(0.5 * kPi / e.bins);
   const detail::GlassTiles tiles(e);
   const detail::CandidateIndex slots(g, cells);  // glass cell -> its slot
-  grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t, Tally& t) {
+  const std::vector<std::size_t> pane = paneOf(e, cells, slots);
+  const bool transient_test = o.max_transient_p > 0.0;
+  grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t index, Tally& t) {
     countSpurious(scan, o, t.surface, t.spurious);
     grid::forEachBeam(scan, beams, [&](const grid::Beam& beam) {
       // Only beams that come near glass; walked from the laser on (a wall before the pane counts).
@@ -136,6 +199,11 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
       bool in_glass = false, direct = false, gap = false;
       double beyond = 0.0;
       Vec2 dir = Vec2::Zero();
+      // The transient test's record: the first glass cell's slot and incidence, and whether the
+      // beam passed a cell of its pane.
+      std::size_t first = 0;
+      double first_cos = 0.0;
+      bool passed_first = false;
       grid::traverse(g, beam.from, beam.to, [&](int x, int y, double, bool last) {
         const std::size_t i = g.index(x, y);
         if (!is_glass[i]) {
@@ -147,24 +215,28 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
           if (near_glass[i]) gap = true;
           return !gap || near_glass[i];  // out of a gap in a pane's labels: through the pane
         }
+        const std::size_t c = slot(x, y);
         if (!in_glass) {
           const double sigma = std::hypot(o.range_sigma, o.range_sigma_rel * beam.range);
           beyond = std::max(o.beyond, 5.0 * sigma);
           dir = (beam.to - beam.from) / std::max(beam.range, 1e-9);
+          first = c;
+          first_cos = std::abs(dir.dot(normals[c]));
         }
         in_glass = true;
         if (last) {
           direct = true;  // its reading in the first pane it met
           return false;
         }
-        const std::size_t c = slot(x, y);
         const Vec2 n = dir.dot(normals[c]) >= 0.0 ? normals[c] : Vec2(-normals[c]);
         const double past = n.dot(beam.to - g.center(x, y));
         const bool pass = !beam.hit || past >= beyond;
         ++(pass ? t.pass[c] : t.stop[c]);
         if (pass && std::abs(dir.dot(n)) >= cos_near) ++t.near_pass[c];
+        passed_first = passed_first || (pass && pane[c] == pane[first]);
         return true;
       });
+      bool returned = false;
       if (own) {  // direct: the walk reached its reading in the first pane (dir is set)
         const std::size_t c = slot(end.x, end.y);
         if (!direct) {
@@ -172,12 +244,22 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
         } else if (std::abs(dir.dot(normals[c])) >= cos_near) {
           ++t.near_own[c];
         }
+        returned = direct && pane[c] == pane[first];
+      }
+      if (transient_test && in_glass && first_cos >= cos_near && (returned || passed_first)) {
+        t.near.push_back({static_cast<std::uint32_t>(pane[first]), static_cast<std::uint32_t>(index),
+                          static_cast<float>(std::acos(std::min(1.0, first_cos))), returned, scan.timestamp});
+        if (returned) t.returned_at.emplace_back(static_cast<std::uint32_t>(slot(end.x, end.y)), scan.timestamp);
       }
     });
   });
   std::vector<std::uint32_t> pass(cells.size(), 0), stop(cells.size(), 0), own(cells.size(), 0);
   std::vector<std::uint32_t> through(cells.size(), 0), near_own(cells.size(), 0), near_pass(cells.size(), 0);
+  std::vector<sparse::NearNormalBeam> near;
+  std::vector<std::pair<std::uint32_t, double>> returned_at;
   for (const Tally& t : tallies) {
+    near.insert(near.end(), t.near.begin(), t.near.end());
+    returned_at.insert(returned_at.end(), t.returned_at.begin(), t.returned_at.end());
     stats.surface_readings += t.surface;
     stats.spurious_readings += t.spurious;
     for (std::size_t c = 0; c < cells.size(); ++c) {
@@ -190,10 +272,13 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
     }
   }
 
+  const std::vector<bool> transient = transientPanes(near, cells.size(), o, stats);
+  const std::vector<bool> stays = returnedInTwoVisits(near, returned_at, pane, transient, o.max_visit_gap_s);
+
+
   // A pane lets light through somewhere along it: cells too thinly seen to decide alone (the MRF
   // carries a label along a line of cells few beams reached) take the verdict of their pane, its
   // evidence pooled.
-  const std::vector<std::size_t> pane = paneOf(e, cells, slots);
   struct Pooled {
     double pass = 0, stop = 0, own = 0, through = 0, near_own = 0, near_pass = 0;
   };
@@ -245,7 +330,11 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   for (std::size_t c = 0; c < cells.size(); ++c) {
     const Pooled& of_pane = pooled[pane[c]];
     std::optional<bool> verdict;
-    if (imageOnly(of_pane)) {
+    if (transient[pane[c]] && !stays[c]) {
+      verdict = true;
+      ++stats.decided_by_pane;
+      ++stats.transient_cells;
+    } else if (imageOnly(of_pane)) {
       verdict = true;
       ++stats.decided_by_pane;
       ++stats.images;

@@ -197,6 +197,7 @@ TEST(FaintPanes, PeopleThatAnsweredOneOfTheRobotsVisitsAreNoPanes) {
   const MapResult r = mapLog(log);
   MapOptions scans_only;
   scans_only.sparse.max_visit_gap_s = 0.0;
+  scans_only.opaque.max_transient_p = 0.0;  // nor the opaque step's test of time on the classifiers' panes
   const MapResult was = mapLog(log, scans_only);
   std::printf("runs of one visit %zu; sparse panes %zu, without the visit test %zu\n", r.sparse.rejected_one_visit,
               r.sparse.found.size(), was.sparse.found.size());
@@ -227,6 +228,7 @@ TEST(FaintPanes, PeopleSeenInOneVisitNeedLessToBeTransients) {
   const MapResult r = mapLog(log);
   MapOptions strict;
   strict.sparse.max_one_visit_transient_p = 0.0;
+  strict.opaque.max_transient_p = 0.0;  // nor the opaque step's test of time on the classifiers' panes
   const MapResult was = mapLog(log, strict);
   const std::size_t off = countPaneCells(scene.map, r.evidence).off_glass;
   const std::size_t off_was = countPaneCells(scene.map, was.evidence).off_glass;
