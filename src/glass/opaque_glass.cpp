@@ -24,9 +24,9 @@ namespace glassmap::glass {
 namespace {
 
 // The pane of each glass cell (cells: ascending, slots: their index): a representative slot of
-// the glass cells connected to it (8-neighbours) whose normals are at most one bin apart.
+// the glass cells connected to it (8-neighbours) whose normals are at most max_bin_gap bins apart.
 std::vector<std::size_t> paneOf(const CellEvidence& e, const std::vector<std::size_t>& cells,
-                                const detail::CandidateIndex& slots) {
+                                const detail::CandidateIndex& slots, int max_bin_gap = 1) {
   boost::disjoint_sets_with_storage<> sets(cells.size());
   for (std::size_t c = 0; c < cells.size(); ++c) sets.make_set(c);
   const auto bin_gap = [&](std::size_t a, std::size_t b) {
@@ -38,7 +38,8 @@ std::vector<std::size_t> paneOf(const CellEvidence& e, const std::vector<std::si
     constexpr int kForward[4][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}};  // each neighbour pair once
     for (const auto& d : kForward) {
       const std::int64_t n = slots.find(at.x + d[0], at.y + d[1]);
-      if (n >= 0 && bin_gap(c, static_cast<std::size_t>(n)) <= 1) sets.union_set(c, static_cast<std::size_t>(n));
+      if (n >= 0 && bin_gap(c, static_cast<std::size_t>(n)) <= max_bin_gap)
+        sets.union_set(c, static_cast<std::size_t>(n));
     }
   }
   std::vector<std::size_t> pane(cells.size());
@@ -75,27 +76,35 @@ double log10BinomialCdf(int k, int n, double p) {
   return cdf > 0.0 ? std::log10(cdf) : -std::numeric_limits<double>::infinity();
 }
 
-// Per pane (indexed by its representative slot): whether it is a transient (opaque_glass.hpp),
-// from the near-normal beams that met it first (`run`: the pane's slot).
-std::vector<bool> transientPanes(std::vector<sparse::NearNormalBeam>& near, std::size_t slots,
-                                 const OpaqueGlassOptions& o, OpaqueGlassStats& stats) {
-  std::vector<bool> transient(slots, false);
-  if (!(o.max_transient_p > 0.0) || near.empty()) return transient;
+// How the near-normal beams of each pane (or unit: indexed by its representative slot, the
+// beams' `run`) hang together within scans and by visit, and whether that makes it a transient
+// (opaque_glass.hpp).
+struct PaneCoherence {
+  sparse::ScanCoherence by_scan, by_visit;
+  bool transient = false;
+  bool still = false;  // seen in enough scans to show a transient, and its beams kept apart: static
+};
+std::vector<PaneCoherence> coherenceOf(std::vector<sparse::NearNormalBeam>& near, std::size_t slots,
+                                       const OpaqueGlassOptions& o) {
+  std::vector<PaneCoherence> out(slots);
+  if (!(o.max_transient_p > 0.0) || near.empty()) return out;
   const double bin = deg2rad(o.lobe_bin_deg);
   const std::vector<sparse::ScanCoherence> by_scan = sparse::scanCoherence(near, slots, bin);
-  const std::vector<sparse::ScanCoherence> by_visit =
-      o.max_visit_gap_s > 0.0 ? sparse::visitCoherence(near, slots, bin, o.max_visit_gap_s)
-                              : std::vector<sparse::ScanCoherence>(slots);
+  const std::vector<sparse::ScanCoherence> by_visit = o.max_visit_gap_s > 0.0
+                                                          ? sparse::visitCoherence(near, slots, bin, o.max_visit_gap_s)
+                                                          : std::vector<sparse::ScanCoherence>(slots);
   for (std::size_t p = 0; p < slots; ++p) {
-    if (by_scan[p].beams == 0) continue;
-    ++stats.panes_tested;
-    transient[p] = sparse::isTransient(by_scan[p], o.max_transient_p, o.min_transient_correlation) ||
-                   (by_visit[p].scans == 1 &&
-                    sparse::isTransient(by_scan[p], o.max_one_visit_transient_p, o.min_transient_correlation)) ||
-                   sparse::isTransient(by_visit[p], o.max_transient_p, o.min_visit_correlation);
-    stats.transient_panes += transient[p];
+    PaneCoherence& c = out[p];
+    c.by_scan = by_scan[p];
+    c.by_visit = by_visit[p];
+    c.transient = sparse::isTransient(c.by_scan, o.max_transient_p, o.min_transient_correlation) ||
+                  (c.by_visit.scans == 1 &&
+                   sparse::isTransient(c.by_scan, o.max_one_visit_transient_p, o.min_transient_correlation)) ||
+                  sparse::isTransient(c.by_visit, o.max_transient_p, o.min_visit_correlation);
+    c.still = !c.transient && c.by_scan.scans >= static_cast<std::size_t>(o.min_static_scans) &&
+              c.by_scan.correlation < 0.5 * o.min_transient_correlation;
   }
-  return transient;
+  return out;
 }
 
 // Per glass cell of a transient pane: whether it returned near-normal beams in two of the pane's
@@ -168,8 +177,8 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
     std::vector<std::uint32_t> pass, stop, own;
     // Returns that came through another pane first; direct returns and passes along the normal.
     std::vector<std::uint32_t> through, near_own, near_pass;
-    std::uint64_t surface = 0, spurious = 0;  // in-scan: readings between two on one surface, and wrong ones
-    std::vector<sparse::NearNormalBeam> near;  // the transient test's: `run` is the pane's slot
+    std::uint64_t surface = 0, spurious = 0;   // in-scan: readings between two on one surface, and wrong ones
+    std::vector<sparse::NearNormalBeam> near;  // the transient test's: `run` is the unit's slot
     std::vector<std::pair<std::uint32_t, double>> returned_at;  // ...those returned: the cell's slot, time
   };
   tbb::enumerable_thread_specific<Tally> tallies([&] {
@@ -181,6 +190,7 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   const detail::GlassTiles tiles(e);
   const detail::CandidateIndex slots(g, cells);  // glass cell -> its slot
   const std::vector<std::size_t> pane = paneOf(e, cells, slots);
+  const std::vector<std::size_t> unit = paneOf(e, cells, slots, 0);  // ...of one normal bin
   const bool transient_test = o.max_transient_p > 0.0;
   grid::forScansInParallel(log, {}, tallies, [&](const LaserScan& scan, std::size_t index, Tally& t) {
     countSpurious(scan, o, t.surface, t.spurious);
@@ -199,8 +209,8 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
       bool in_glass = false, direct = false, gap = false;
       double beyond = 0.0;
       Vec2 dir = Vec2::Zero();
-      // The transient test's record: the first glass cell's slot and incidence, and whether the
-      // beam passed a cell of its pane.
+      // The transient test's record, for the unit of the first glass cell met: that cell's slot
+      // and incidence, and whether the beam passed a cell of its pane (or returned in one).
       std::size_t first = 0;
       double first_cos = 0.0;
       bool passed_first = false;
@@ -247,7 +257,7 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
         returned = direct && pane[c] == pane[first];
       }
       if (transient_test && in_glass && first_cos >= cos_near && (returned || passed_first)) {
-        t.near.push_back({static_cast<std::uint32_t>(pane[first]), static_cast<std::uint32_t>(index),
+        t.near.push_back({static_cast<std::uint32_t>(unit[first]), static_cast<std::uint32_t>(index),
                           static_cast<float>(std::acos(std::min(1.0, first_cos))), returned, scan.timestamp});
         if (returned) t.returned_at.emplace_back(static_cast<std::uint32_t>(slot(end.x, end.y)), scan.timestamp);
       }
@@ -272,9 +282,28 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
     }
   }
 
-  const std::vector<bool> transient = transientPanes(near, cells.size(), o, stats);
-  const std::vector<bool> stays = returnedInTwoVisits(near, returned_at, pane, transient, o.max_visit_gap_s);
-
+  // People, by their beams' timing: each unit (connected glass cells of one normal bin) and each
+  // pane (units whose normals are at most a bin apart) on its own near-normal beams.
+  std::vector<sparse::NearNormalBeam> near_pane = near;
+  for (sparse::NearNormalBeam& b : near_pane) b.run = static_cast<std::uint32_t>(pane[b.run]);
+  const std::vector<PaneCoherence> unit_time = coherenceOf(near, cells.size(), o);
+  const std::vector<PaneCoherence> pane_time = coherenceOf(near_pane, cells.size(), o);
+  std::vector<bool> transient_pane(cells.size(), false);
+  for (std::size_t p = 0; p < cells.size(); ++p) {
+    transient_pane[p] = pane_time[p].transient;
+    stats.panes_tested += pane_time[p].by_scan.beams > 0;
+    stats.transient_panes += pane_time[p].transient;
+  }
+  const std::vector<bool> two_visits =
+      returnedInTwoVisits(near_pane, returned_at, pane, transient_pane, o.max_visit_gap_s);
+  // A cell is a transient's when its unit is one, or when its pane is one and nothing says the
+  // cell stood there: it answered one visit only, and its unit is not plainly still (a person
+  // beside a pane joins the pane, and their transient pooled makes the pane's a transient; the
+  // pane's own cells are a unit that returned all along).
+  const auto transientCell = [&](std::size_t c) {
+    const PaneCoherence& u = unit_time[unit[c]];
+    return u.transient || (transient_pane[pane[c]] && !two_visits[c] && !u.still);
+  };
 
   // A pane lets light through somewhere along it: cells too thinly seen to decide alone (the MRF
   // carries a label along a line of cells few beams reached) take the verdict of their pane, its
@@ -330,7 +359,7 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   for (std::size_t c = 0; c < cells.size(); ++c) {
     const Pooled& of_pane = pooled[pane[c]];
     std::optional<bool> verdict;
-    if (transient[pane[c]] && !stays[c]) {
+    if (transientCell(c)) {
       verdict = true;
       ++stats.decided_by_pane;
       ++stats.transient_cells;

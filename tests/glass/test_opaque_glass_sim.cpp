@@ -83,10 +83,10 @@ TEST(OpaqueGlass, PeopleTheClassifierTookForPanesAreTransients) {
   // The corridor behind glass, driven there and back, with 5 people per 100 m^2 walking: a person
   // answers the beams that meet it from the robot's side while it stands there, and its cells pass
   // every beam before and after, which the classifier takes for a pane. Its near-normal beams
-  // return scan by scan and visit by visit, all together; the pane's each on its own. Measured: 29
-  // of 42 panes transient, the corridor's glass cells 294 -> 140 (what stays: people's cells too
-  // thinly seen along their normal to test, and people beside the pane, which join it), the pane's
-  // 345 -> 345.
+  // return scan by scan and visit by visit, all together; the pane's each on its own. Measured: 27
+  // of 42 panes transient, the corridor's glass cells 294 -> 173 (what stays: people's cells too
+  // thinly seen along their normal to tell, within-scan correlations under the 0.5 the test asks),
+  // the pane's 345 -> 345.
   sim::Scene scene = corridorBehindGlass();
   scene.trajectory.round_trip = true;
   scene.people.density = 5.0;
@@ -100,13 +100,14 @@ TEST(OpaqueGlass, PeopleTheClassifierTookForPanesAreTransients) {
   // In the corridor (0.3 < y < 2.1: nothing but people) and on the pane.
   const std::size_t people = glassBetween(with, 0.3, 2.1), people0 = glassBetween(without, 0.3, 2.1);
   const std::size_t pane = glassBetween(with, -0.15, 0.15), pane0 = glassBetween(without, -0.15, 0.15);
-  std::printf("people: %zu of %zu panes transient (%zu cells); glass in the corridor %zu, without the test %zu; on "
-              "the pane %zu, without %zu\n",
-              s.transient_panes, s.panes_tested, s.transient_cells, people, people0, pane, pane0);
+  std::printf(
+      "people: %zu of %zu panes transient (%zu cells); glass in the corridor %zu, without the test %zu; on "
+      "the pane %zu, without %zu\n",
+      s.transient_panes, s.panes_tested, s.transient_cells, people, people0, pane, pane0);
   EXPECT_GT(s.transient_panes, 0u);
   EXPECT_EQ(s0.transient_panes, 0u);
   EXPECT_GT(people0, 10u);  // what the test is about
-  EXPECT_LT(people, people0 * 6 / 10);
+  EXPECT_LT(people, people0 * 2 / 3);
   EXPECT_GT(pane0, 150u);
   EXPECT_GE(pane, pane0 * 98 / 100);
 }
