@@ -98,8 +98,6 @@ std::vector<PaneCoherence> coherenceOf(std::vector<sparse::NearNormalBeam>& near
     c.by_scan = by_scan[p];
     c.by_visit = by_visit[p];
     c.transient = sparse::isTransient(c.by_scan, o.max_transient_p, o.min_transient_correlation) ||
-                  (c.by_visit.scans == 1 &&
-                   sparse::isTransient(c.by_scan, o.max_one_visit_transient_p, o.min_transient_correlation)) ||
                   sparse::isTransient(c.by_visit, o.max_transient_p, o.min_visit_correlation);
     c.still = !c.transient && c.by_scan.scans >= static_cast<std::size_t>(o.min_static_scans) &&
               c.by_scan.correlation < 0.5 * o.min_transient_correlation;
@@ -114,13 +112,13 @@ std::vector<PaneCoherence> coherenceOf(std::vector<sparse::NearNormalBeam>& near
 // one it was there for.
 std::vector<bool> returnedInTwoVisits(const std::vector<sparse::NearNormalBeam>& near,
                                       std::vector<std::pair<std::uint32_t, double>> returned_at,
-                                      const std::vector<std::size_t>& pane, const std::vector<bool>& transient,
+                                      const std::vector<std::size_t>& pane, const std::vector<PaneCoherence>& of_pane,
                                       double max_gap_s) {
   std::vector<bool> stays(pane.size(), false);
   if (!(max_gap_s > 0.0)) return stays;
   std::vector<std::vector<double>> times(pane.size());  // per transient pane: its near-normal beams' times
   for (const sparse::NearNormalBeam& b : near)
-    if (transient[b.run]) times[b.run].push_back(b.time);
+    if (of_pane[b.run].transient) times[b.run].push_back(b.time);
   std::vector<std::vector<double>> starts(pane.size());  // ...and the times its visits start
   for (std::size_t p = 0; p < pane.size(); ++p) {
     std::sort(times[p].begin(), times[p].end());
@@ -288,21 +286,18 @@ OpaqueGlassStats relabelOpaqueGlass(const LaserLog& log, const grid::BeamOptions
   for (sparse::NearNormalBeam& b : near_pane) b.run = static_cast<std::uint32_t>(pane[b.run]);
   const std::vector<PaneCoherence> unit_time = coherenceOf(near, cells.size(), o);
   const std::vector<PaneCoherence> pane_time = coherenceOf(near_pane, cells.size(), o);
-  std::vector<bool> transient_pane(cells.size(), false);
-  for (std::size_t p = 0; p < cells.size(); ++p) {
-    transient_pane[p] = pane_time[p].transient;
-    stats.panes_tested += pane_time[p].by_scan.beams > 0;
-    stats.transient_panes += pane_time[p].transient;
+  for (const PaneCoherence& p : pane_time) {
+    stats.panes_tested += p.by_scan.beams > 0;
+    stats.transient_panes += p.transient;
   }
-  const std::vector<bool> two_visits =
-      returnedInTwoVisits(near_pane, returned_at, pane, transient_pane, o.max_visit_gap_s);
+  const std::vector<bool> two_visits = returnedInTwoVisits(near_pane, returned_at, pane, pane_time, o.max_visit_gap_s);
   // A cell is a transient's when its unit is one, or when its pane is one and nothing says the
   // cell stood there: it answered one visit only, and its unit is not plainly still (a person
   // beside a pane joins the pane, and their transient pooled makes the pane's a transient; the
   // pane's own cells are a unit that returned all along).
   const auto transientCell = [&](std::size_t c) {
     const PaneCoherence& u = unit_time[unit[c]];
-    return u.transient || (transient_pane[pane[c]] && !two_visits[c] && !u.still);
+    return u.transient || (pane_time[pane[c]].transient && !two_visits[c] && !u.still);
   };
 
   // A pane lets light through somewhere along it: cells too thinly seen to decide alone (the MRF

@@ -194,7 +194,6 @@ nlohmann::json mapOptionsJson(const MapOptions& options) {
             {"min_unpassed_returns", options.opaque.min_unpassed_returns},
             {"max_transient_p", options.opaque.max_transient_p},
             {"min_transient_correlation", options.opaque.min_transient_correlation},
-            {"max_one_visit_transient_p", options.opaque.max_one_visit_transient_p},
             {"min_visit_correlation", options.opaque.min_visit_correlation},
             {"max_visit_gap_s", options.opaque.max_visit_gap_s}}},
           {"phantoms",

@@ -75,12 +75,11 @@ struct OpaqueGlassOptions {
   /// scan whose beams all passed throws it far (true units up to 0.42; people's median 0.88). The
   /// least correlation by visit is 0.3, not 0.02: a strong pane's rate moves more from visit to
   /// visit with the robot's range and path (true units up to 0.29 but one, of one cell; people's
-  /// median 0.76). And a unit or pane seen in one visit gets no weaker test
-  /// (max_one_visit_transient_p 0, where the sparse search asks p < 0.05): the classifiers' short
-  /// pieces of true panes seen once correlate up to 0.35.
+  /// median 0.76). And a unit or pane seen in one visit gets no weaker test (the sparse search
+  /// asks p < 0.05 of its runs seen once): the classifiers' short pieces of true panes seen once
+  /// correlate up to 0.35.
   double max_transient_p = 1e-3;
   double min_transient_correlation = 0.5;
-  double max_one_visit_transient_p = 0.0;
   double min_visit_correlation = 0.3;
   double max_visit_gap_s = 2.0;
   double lobe_bin_deg = 0.5;
