@@ -1,0 +1,63 @@
+#include "huge_pages.hpp"
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+
+namespace glassmap::cli {
+
+std::string thpMode(std::string_view enabled_file) {
+  const std::size_t open = enabled_file.find('[');
+  if (open == std::string_view::npos) return {};
+  const std::size_t close = enabled_file.find(']', open);
+  if (close == std::string_view::npos) return {};
+  return std::string(enabled_file.substr(open + 1, close - open - 1));
+}
+
+std::optional<std::string> hugePageTunables(const char* tunables, std::string_view thp_mode, const char* opt_out) {
+  if (opt_out && std::string_view(opt_out) == "0") return std::nullopt;
+  if (thp_mode != "madvise") return std::nullopt;
+  const std::string_view current = tunables ? tunables : "";
+  if (current.find("glibc.malloc.hugetlb") != std::string_view::npos) return std::nullopt;
+  std::string out(current);
+  if (!out.empty()) out += ':';
+  out += "glibc.malloc.hugetlb=1";
+  return out;
+}
+
+bool mallocReadsTunables() {
+#if !defined(__GLIBC__) || defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  return false;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+  return false;
+#else
+  return true;
+#endif
+#else
+  return true;
+#endif
+}
+
+void useHugePages(char** argv) {
+  if (!mallocReadsTunables()) return;
+  std::ifstream file("/sys/kernel/mm/transparent_hugepage/enabled");
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const char* before = std::getenv("GLIBC_TUNABLES");
+  const std::optional<std::string> tunables =
+      hugePageTunables(before, thpMode(text), std::getenv("GLASSMAP_HUGE_PAGES"));
+  if (!tunables) return;
+  const std::optional<std::string> saved = before ? std::optional<std::string>(before) : std::nullopt;
+  if (setenv("GLIBC_TUNABLES", tunables->c_str(), 1) != 0) return;
+  execv("/proc/self/exe", argv);
+  // Still here: no /proc, or the binary is gone. Carry on as we are.
+  if (saved) {
+    setenv("GLIBC_TUNABLES", saved->c_str(), 1);
+  } else {
+    unsetenv("GLIBC_TUNABLES");
+  }
+}
+
+}  // namespace glassmap::cli

@@ -1,0 +1,37 @@
+#pragma once
+// Transparent huge pages for the glassmap process. The mapping passes allocate and free grids of
+// tens of megabytes, per thread and per stage, and a fresh page costs a fault on first touch: on
+// Freiburg 079 about 68,000 faults of 4 KiB, a tenth of the run's time on a virtual machine, where
+// a fault is dear. glibc's malloc asks the kernel for 2 MiB pages (madvise) when its tunable
+// glibc.malloc.hugetlb=1 is set, which glibc reads only when a process starts: the command sets
+// it and starts itself again, before it does anything else.
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace glassmap::cli {
+
+/// The kernel's transparent huge page mode, the bracketed word of
+/// /sys/kernel/mm/transparent_hugepage/enabled ("always [madvise] never" gives "madvise"), or ""
+/// when the text has none.
+std::string thpMode(std::string_view enabled_file);
+
+/// The GLIBC_TUNABLES value that asks glibc's malloc for huge pages, given the current value
+/// (nullptr: unset), the kernel's mode and GLASSMAP_HUGE_PAGES (nullptr: unset); nothing when
+/// there is nothing to do: huge pages only on request ("madvise") is the one mode where asking
+/// helps, a glibc.malloc.hugetlb already set is the user's choice, and GLASSMAP_HUGE_PAGES=0 opts
+/// out.
+std::optional<std::string> hugePageTunables(const char* tunables, std::string_view thp_mode, const char* opt_out);
+
+/// Whether the allocator is glibc's own malloc, which reads the tunable (a sanitizer brings its
+/// own allocator).
+bool mallocReadsTunables();
+
+/// Starts the program again (/proc/self/exe, the same arguments) with the tunable set, when
+/// hugePageTunables says so and glibc's malloc is the allocator (not under a sanitizer, whose
+/// allocator ignores it). Returns only when it did not: nothing to do, or the exec failed (the
+/// environment then is as it was).
+void useHugePages(char** argv);
+
+}  // namespace glassmap::cli
