@@ -238,6 +238,10 @@ const cli::Registrar reg(50, [](CLI::App& app) {
       "plain fit: every face of free space is a wall (no clutter layer, no bridging, no doors)");
   cmd->add_option("--corner-snap", args->options.corner_snap, "join wall ends this close to another wall [m] (0: off)")
       ->capture_default_str();
+  cmd->add_option("--glass-corner-snap", args->options.glass_corner_snap,
+                  "a pane's end moves onto a wall this far away (a pane ends in a frame), unless its line runs on "
+                  "as a wall there [m] (at least --corner-snap)")
+      ->capture_default_str();
   cmd->add_option("--max-wall-thickness", args->options.max_wall_thickness,
                   "merge parallel wall faces closer than this into one centre line [m]")
       ->capture_default_str();

@@ -48,11 +48,27 @@ void regularize(std::vector<Piece>& pieces, double axis, const Context& ctx) {
   }
 }
 
+// Whether the stretch from a pane's end to where it would move runs over occupied cells for half
+// its length or more (its line runs on as a wall, or into one): the pane then ends there already.
+// The stretch stops a cell short of the target, where the wall's own cells begin.
+bool overOccupied(const Vec2& from, const Vec2& to, const Context& ctx) {
+  const double res = ctx.grid.resolution;
+  const double length = (to - from).norm() - res;
+  if (length <= res) return false;
+  const Vec2 d = (to - from).normalized();
+  int samples = 0, occupied = 0;
+  for (double t = 0.5 * res; t < length; t += 0.5 * res, ++samples)
+    occupied += ctx.codeAt(from + t * d) == kCodeOccupied;
+  return 2 * occupied >= samples;
+}
+
 // Closes corners and T junctions: a segment end within corner_snap of the intersection of its
 // line with a wall's line (crossing at corner_min_angle_deg or more, the intersection on or near
-// that wall) moves to the intersection. Glass ends snap to walls, wall ends to walls.
+// that wall) moves to the intersection. Glass ends snap to walls (within glass_corner_snap), wall
+// ends to walls.
 void snapCorners(std::vector<Piece>& glass, std::vector<Piece>& walls, const Context& ctx) {
   const double snap = ctx.opt.corner_snap;
+  const double glass_snap = std::max(snap, ctx.opt.glass_corner_snap);
   const double sin_min = std::sin(deg2rad(ctx.opt.corner_min_angle_deg));
   // Only pieces long enough to be walls (or panes) of the plan take part; clutter stays apart.
   const double min_len = 2.0 * snap;
@@ -60,25 +76,27 @@ void snapCorners(std::vector<Piece>& glass, std::vector<Piece>& walls, const Con
     Piece* piece;
     bool end;              // false: t0, true: t1
     std::size_t own_wall;  // the piece's own index among the walls, or walls.size()
+    double snap;           // how far the end may move
   };
   std::vector<End> ends;
   std::vector<Vec2> points;
-  auto addEnds = [&](Piece& p, std::size_t own) {
+  auto addEnds = [&](Piece& p, std::size_t own, double reach) {
     if (p.length() < min_len) return;
     for (int e = 0; e < 2; ++e) {
-      ends.push_back({&p, e == 1, own});
+      ends.push_back({&p, e == 1, own, reach});
       points.push_back(e == 0 ? p.a() : p.b());
     }
   };
-  for (std::size_t k = 0; k < walls.size(); ++k) addEnds(walls[k], k);
-  for (Piece& g : glass) addEnds(g, walls.size());
-  // A wall whose intersection can move an end lies within 2 snap of it (the intersection is within
-  // snap of the end and within snap of the wall): walls' boxes grown by 2 snap hold those ends.
+  for (std::size_t k = 0; k < walls.size(); ++k) addEnds(walls[k], k, snap);
+  for (Piece& g : glass) addEnds(g, walls.size(), glass_snap);
+  // A wall whose intersection can move an end lies within the end's snap plus snap of it (the
+  // intersection is within the end's snap of the end and within snap of the wall): walls' boxes
+  // grown by glass_snap + snap hold those ends.
   std::vector<Eigen::AlignedBox2d> boxes(walls.size());
   for (std::size_t k = 0; k < walls.size(); ++k) {
     if (walls[k].length() < min_len) continue;
-    boxes[k].extend(walls[k].a().cwiseMin(walls[k].b()) - Vec2::Constant(2 * snap));
-    boxes[k].extend(walls[k].a().cwiseMax(walls[k].b()) + Vec2::Constant(2 * snap));
+    boxes[k].extend(walls[k].a().cwiseMin(walls[k].b()) - Vec2::Constant(glass_snap + snap));
+    boxes[k].extend(walls[k].a().cwiseMax(walls[k].b()) + Vec2::Constant(glass_snap + snap));
   }
   struct Move {
     Piece* piece;
@@ -94,7 +112,7 @@ void snapCorners(std::vector<Piece>& glass, std::vector<Piece>& walls, const Con
     const End& end_info = ends[e];
     Piece& p = *end_info.piece;
     const Vec2 end = points[e];
-    double best = snap, best_t = 0;
+    double best = end_info.snap, best_t = 0;
     bool found = false;
     for (std::size_t m = first; m < last; ++m) {
       const std::size_t k = pairs[m].second;
@@ -112,6 +130,8 @@ void snapCorners(std::vector<Piece>& glass, std::vector<Piece>& walls, const Con
       // Never flip or halve the segment.
       const double len = end_info.end ? t - p.t0 : p.t1 - t;
       if (len < 0.5 * p.length()) continue;
+      // A pane whose line runs on as a wall ends in that wall: it does not grow over it.
+      if (end_info.own_wall == walls.size() && overOccupied(end, x, ctx)) continue;
       best = dist;
       best_t = t;
       found = true;

@@ -15,12 +15,12 @@ namespace glassmap::vector::detail {
 
 namespace {
 
-// True when the end `e` of piece p meets piece q: within snap of q's extent, crossing it at
-// corner_min_angle_deg or more.
-bool meets(const Piece& p, const Vec2& e, const Piece& q, const Context& ctx) {
+// True when the end `e` of piece p meets piece q: within snap of q's extent, run on by `beyond`
+// at either end, crossing it at corner_min_angle_deg or more.
+bool meets(const Piece& p, const Vec2& e, const Piece& q, const Context& ctx, double beyond = 0.0) {
   const double cross = std::abs(p.d.x() * q.d.y() - p.d.y() * q.d.x());
   if (cross < std::sin(deg2rad(ctx.opt.corner_min_angle_deg))) return false;
-  const double t = std::clamp(q.d.dot(e - q.c), q.t0, q.t1);
+  const double t = std::clamp(q.d.dot(e - q.c), q.t0 - beyond, q.t1 + beyond);
   return (q.c + t * q.d - e).norm() <= ctx.opt.corner_snap;
 }
 
@@ -130,13 +130,15 @@ void separateClutter(std::vector<Piece> joined, const std::vector<std::size_t>& 
       if (wall[i] || shadowed[i]) continue;
       const Piece& p = joined[i];
       bool at_a = false, at_b = false;
-      const auto check = [&](const Piece& q) {
-        at_a = at_a || meets(p, p.a(), q, ctx);
-        at_b = at_b || meets(p, p.b(), q, ctx);
+      const auto check = [&](const Piece& q, double beyond) {
+        at_a = at_a || meets(p, p.a(), q, ctx, beyond);
+        at_b = at_b || meets(p, p.b(), q, ctx, beyond);
       };
       for (std::size_t j = 0; j < n; ++j)
-        if (j != i && wall[j]) check(joined[j]);
-      for (const Piece& g : glass) check(g);
+        if (j != i && wall[j]) check(joined[j], 0.0);
+      // A pane's end moves onto a wall up to glass_corner_snap away (snapCorners).
+      const double pane_reach = std::max(0.0, ctx.opt.glass_corner_snap - ctx.opt.corner_snap);
+      for (const Piece& g : glass) check(g, pane_reach);
       if (at_a && at_b) wall[i] = 1, changed = true;
     }
   }

@@ -250,6 +250,59 @@ TEST(Vectorize, EvidenceAndSupportAttributes) {
   EXPECT_NEAR(glass[0].support, 60u, 1u);  // 3 m of 5 cm cells, one row (+ the end cell the raster touches)
 }
 
+// The glass segment of `map` nearest to p (its nearer end), and that end.
+Vec2 glassEndNear(const VectorMap& map, const Vec2& p) {
+  Vec2 best = Vec2::Constant(1e9);
+  for (const MapSegment& s : ofMaterial(map, Material::Glass))
+    for (const Vec2& e : {s.a, s.b})
+      if ((e - p).norm() < (best - p).norm()) best = e;
+  return best;
+}
+
+TEST(Vectorize, PaneEndsInTheWallItPointsAt) {
+  // A pane whose last 0.5 m before a wall were labelled empty (its cells there seen only at wide
+  // angles, or lost to the MRF): its end moves onto the wall. A 0.8 m gap is a passage and stays.
+  VectorizeOptions opt;
+  ASSERT_DOUBLE_EQ(opt.glass_corner_snap, 0.6);
+  const MapSegment wall = seg(4.5, 0.5, 4.5, 4.5, Material::Wall, 0.15);
+  {
+    const VectorizeResult r = vectorize(gridWith({wall, seg(1.0, 2.0, 4.0, 2.0, Material::Glass, 0.01)}), opt);
+    const Vec2 end = glassEndNear(r.map, Vec2(4.5, 2.0));
+    EXPECT_LT((end - Vec2(4.5, 2.0)).norm(), 0.08) << end.transpose();
+  }
+  {
+    const VectorizeResult r = vectorize(gridWith({wall, seg(1.0, 2.0, 3.7, 2.0, Material::Glass, 0.01)}), opt);
+    const Vec2 end = glassEndNear(r.map, Vec2(4.5, 2.0));
+    EXPECT_LT((end - Vec2(3.7, 2.0)).norm(), 0.08) << end.transpose();
+  }
+}
+
+TEST(Vectorize, PaneDoesNotGrowOverTheWallItRunsOnAs) {
+  // A pane whose line runs on as a wall, a cross wall 0.5 m along: the pane ends where the wall
+  // begins, not at the cross wall.
+  const VectorizeResult r = vectorize(
+      gridWith({seg(1.0, 2.0, 3.5, 2.0, Material::Glass, 0.01), seg(3.5, 2.0, 5.5, 2.0, Material::Wall, 0.15),
+                seg(4.0, 2.0, 4.0, 4.5, Material::Wall, 0.15), seg(5.5, 0.5, 5.5, 4.5, Material::Wall, 0.15)}));
+  const Vec2 end = glassEndNear(r.map, Vec2(3.5, 2.0));
+  EXPECT_LT((end - Vec2(3.5, 2.0)).norm(), 0.08) << end.transpose();
+}
+
+TEST(Vectorize, AWallStubAPanePointsAtIsStructure) {
+  // A steep pane stops 0.45 m short of a 1 m wall stub that hangs off a long wall: the stub is
+  // the pane's frame (a wall, not furniture hanging by one end), and the pane ends on it.
+  const VectorizeResult r =
+      vectorize(gridWith({seg(5.0, 0.5, 5.0, 4.5, Material::Wall, 0.15), seg(4.05, 4.0, 5.0, 4.0, Material::Wall, 0.15),
+                          seg(4.4, 1.0, 4.1, 3.55, Material::Glass, 0.01)}));
+  const auto walls = ofMaterial(r.map, Material::Wall);
+  const bool stub = std::any_of(walls.begin(), walls.end(), [](const MapSegment& w) {
+    return directionErrorDeg(w, 0.0) < 2.0 && std::abs(w.a.y() - 4.0) < 0.08 && std::min(w.a.x(), w.b.x()) < 4.2;
+  });
+  EXPECT_TRUE(stub) << "the stub went to clutter";
+  // Where the pane's line crosses the stub's: y = 4, x = 4.1 - 0.45 * 0.3 / 2.55.
+  const Vec2 end = glassEndNear(r.map, Vec2(4.05, 4.0));
+  EXPECT_LT((end - Vec2(4.1 - 0.45 * 0.3 / 2.55, 4.0)).norm(), 0.08) << end.transpose();
+}
+
 }  // namespace
 }  // namespace glassmap::vector
 

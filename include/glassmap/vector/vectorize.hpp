@@ -67,10 +67,15 @@ struct StructureOptions {
 struct VectorizeOptions {
   MaterialOptions glass = glassDefaults();
   MaterialOptions wall = wallDefaults();
-  double noise_floor = 0.3;           ///< BIC: floor of the rms cell offset from a line [cells]
-  double params_per_segment = 4.0;    ///< BIC: free parameters of one segment (line + extent)
-  double max_wall_thickness = 0.35;   ///< two parallel wall faces closer than this become one wall [m]
-  double corner_snap = 0.35;          ///< wall ends this close to another wall's line are joined [m]
+  double noise_floor = 0.3;          ///< BIC: floor of the rms cell offset from a line [cells]
+  double params_per_segment = 4.0;   ///< BIC: free parameters of one segment (line + extent)
+  double max_wall_thickness = 0.35;  ///< two parallel wall faces closer than this become one wall [m]
+  double corner_snap = 0.35;         ///< wall ends this close to another wall's line are joined [m]
+  /// A pane's end moves onto a wall's line this far (at least corner_snap), and a wall end meets a
+  /// pane's line this far beyond the pane's end: a pane ends in a frame, and its last cells are
+  /// the ones a pane's evidence and the MRF lose first (seen at the widest angles, next to the
+  /// frame). Narrower than any passage, so no doorway beside a pane closes [m].
+  double glass_corner_snap = 0.6;
   bool face_align = true;             ///< a wall seen from one side only lies on its observed face (the
                                       ///< edge of free space), not in the middle of its blurred band
   bool regularize = true;             ///< snap near-axis segments to the dominant axes
