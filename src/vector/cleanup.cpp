@@ -48,12 +48,12 @@ void regularize(std::vector<Piece>& pieces, double axis, const Context& ctx) {
   }
 }
 
-// Whether the stretch from a pane's end to where it would move runs over occupied cells for half
-// its length or more (its line runs on as a wall, or into one): the pane then ends there already.
-// The stretch stops a cell short of the target, where the wall's own cells begin.
-bool overOccupied(const Vec2& from, const Vec2& to, const Context& ctx) {
+// Whether the stretch from a pane's end towards where it would move runs over occupied cells for
+// half its length or more (its line runs on as a wall, or into one): the pane then ends there
+// already. The stretch stops `short_of` before the target, where the target wall's own band begins.
+bool overOccupied(const Vec2& from, const Vec2& to, double short_of, const Context& ctx) {
   const double res = ctx.grid.resolution;
-  const double length = (to - from).norm() - res;
+  const double length = (to - from).norm() - short_of;
   if (length <= res) return false;
   const Vec2 d = (to - from).normalized();
   int samples = 0, occupied = 0;
@@ -131,7 +131,9 @@ void snapCorners(std::vector<Piece>& glass, std::vector<Piece>& walls, const Con
       const double len = end_info.end ? t - p.t0 : p.t1 - t;
       if (len < 0.5 * p.length()) continue;
       // A pane whose line runs on as a wall ends in that wall: it does not grow over it.
-      if (end_info.own_wall == walls.size() && overOccupied(end, x, ctx)) continue;
+      if (end_info.own_wall == walls.size() &&
+          overOccupied(end, x, 0.5 * w.thickness / std::abs(cross) + ctx.grid.resolution, ctx))
+        continue;
       best = dist;
       best_t = t;
       found = true;
