@@ -16,8 +16,10 @@ std::string thpMode(std::string_view enabled_file) {
   return std::string(enabled_file.substr(open + 1, close - open - 1));
 }
 
-std::optional<std::string> hugePageTunables(const char* tunables, std::string_view thp_mode, const char* opt_out) {
+std::optional<std::string> hugePageTunables(const char* tunables, std::string_view thp_mode, const char* opt_out,
+                                            const char* preload) {
   if (opt_out && std::string_view(opt_out) == "0") return std::nullopt;
+  if (preload && std::string_view(preload).find("vgpreload") != std::string_view::npos) return std::nullopt;
   if (thp_mode != "madvise") return std::nullopt;
   const std::string_view current = tunables ? tunables : "";
   if (current.find("glibc.malloc.hugetlb") != std::string_view::npos) return std::nullopt;
@@ -47,7 +49,7 @@ void useHugePages(char** argv) {
   const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   const char* before = std::getenv("GLIBC_TUNABLES");
   const std::optional<std::string> tunables =
-      hugePageTunables(before, thpMode(text), std::getenv("GLASSMAP_HUGE_PAGES"));
+      hugePageTunables(before, thpMode(text), std::getenv("GLASSMAP_HUGE_PAGES"), std::getenv("LD_PRELOAD"));
   if (!tunables) return;
   const std::optional<std::string> saved = before ? std::optional<std::string>(before) : std::nullopt;
   if (setenv("GLIBC_TUNABLES", tunables->c_str(), 1) != 0) return;

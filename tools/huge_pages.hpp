@@ -18,11 +18,13 @@ namespace glassmap::cli {
 std::string thpMode(std::string_view enabled_file);
 
 /// The GLIBC_TUNABLES value that asks glibc's malloc for huge pages, given the current value
-/// (nullptr: unset), the kernel's mode and GLASSMAP_HUGE_PAGES (nullptr: unset); nothing when
-/// there is nothing to do: huge pages only on request ("madvise") is the one mode where asking
-/// helps, a glibc.malloc.hugetlb already set is the user's choice, and GLASSMAP_HUGE_PAGES=0 opts
-/// out.
-std::optional<std::string> hugePageTunables(const char* tunables, std::string_view thp_mode, const char* opt_out);
+/// (nullptr: unset), the kernel's mode, GLASSMAP_HUGE_PAGES and LD_PRELOAD (nullptr: unset);
+/// nothing when there is nothing to do: huge pages only on request ("madvise") is the one mode
+/// where asking helps, a glibc.malloc.hugetlb already set is the user's choice,
+/// GLASSMAP_HUGE_PAGES=0 opts out, and under valgrind (its preloaded vgpreload libraries) a new
+/// start would run outside the tool, whose allocator reads no tunable anyway.
+std::optional<std::string> hugePageTunables(const char* tunables, std::string_view thp_mode, const char* opt_out,
+                                            const char* preload = nullptr);
 
 /// Whether the allocator is glibc's own malloc, which reads the tunable (a sanitizer brings its
 /// own allocator).

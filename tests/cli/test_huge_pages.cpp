@@ -36,5 +36,14 @@ TEST(HugePages, KeepsTheUsersTunablesAndChoice) {
   EXPECT_EQ(hugePageTunables(nullptr, "madvise", "1"), "glibc.malloc.hugetlb=1");
 }
 
+TEST(HugePages, NotUnderValgrind) {
+  // A new start would leave the tool; another preloaded library changes nothing.
+  EXPECT_FALSE(hugePageTunables(nullptr, "madvise", nullptr,
+                                "/usr/libexec/valgrind/vgpreload_core-amd64-linux.so:"
+                                "/usr/libexec/valgrind/vgpreload_memcheck-amd64-linux.so"));
+  EXPECT_EQ(hugePageTunables(nullptr, "madvise", nullptr, "/usr/lib/x86_64-linux-gnu/libjemalloc.so.2"),
+            "glibc.malloc.hugetlb=1");
+}
+
 }  // namespace
 }  // namespace glassmap::cli
