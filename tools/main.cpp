@@ -13,8 +13,8 @@
 
 int main(int argc, char** argv) {
   // First of all: glibc's malloc on 2 MiB pages where the kernel gives them on request (the
-  // program starts again with the tunable set; GLASSMAP_HUGE_PAGES=0 opts out). Freiburg 079 maps
-  // in 13% less time, the 100 m floor in 18% less, at the same peak memory (docs/speed.md).
+  // program starts again with the tunable set; GLASSMAP_HUGE_PAGES=0 opts out). Freiburg 079 and
+  // the 100 m floor map in 12-14% less time, at the same peak memory (docs/speed.md).
   glassmap::cli::useHugePages(argv);
   // SIGINT/SIGTERM remove the temporaries of writes in progress, so an interrupted run leaves
   // either the old output or the new one, never a partial file.
