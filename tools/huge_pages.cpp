@@ -16,6 +16,11 @@ std::string thpMode(std::string_view enabled_file) {
   return std::string(enabled_file.substr(open + 1, close - open - 1));
 }
 
+std::string kernelThpMode() {
+  std::ifstream file("/sys/kernel/mm/transparent_hugepage/enabled");
+  return thpMode(std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>()));
+}
+
 std::optional<std::string> hugePageTunables(const char* tunables, std::string_view thp_mode, const char* opt_out,
                                             const char* preload) {
   if (opt_out && std::string_view(opt_out) == "0") return std::nullopt;
@@ -45,11 +50,9 @@ bool mallocReadsTunables() {
 
 void useHugePages(char** argv) {
   if (!mallocReadsTunables()) return;
-  std::ifstream file("/sys/kernel/mm/transparent_hugepage/enabled");
-  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   const char* before = std::getenv("GLIBC_TUNABLES");
   const std::optional<std::string> tunables =
-      hugePageTunables(before, thpMode(text), std::getenv("GLASSMAP_HUGE_PAGES"), std::getenv("LD_PRELOAD"));
+      hugePageTunables(before, kernelThpMode(), std::getenv("GLASSMAP_HUGE_PAGES"), std::getenv("LD_PRELOAD"));
   if (!tunables) return;
   const std::optional<std::string> saved = before ? std::optional<std::string>(before) : std::nullopt;
   if (setenv("GLIBC_TUNABLES", tunables->c_str(), 1) != 0) return;

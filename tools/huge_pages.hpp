@@ -17,6 +17,9 @@ namespace glassmap::cli {
 /// when the text has none.
 std::string thpMode(std::string_view enabled_file);
 
+/// This kernel's mode: thpMode of its /sys/kernel/mm/transparent_hugepage/enabled ("" without one).
+std::string kernelThpMode();
+
 /// The GLIBC_TUNABLES value that asks glibc's malloc for huge pages, given the current value
 /// (nullptr: unset), the kernel's mode, GLASSMAP_HUGE_PAGES and LD_PRELOAD (nullptr: unset);
 /// nothing when there is nothing to do: huge pages only on request ("madvise") is the one mode

@@ -68,27 +68,26 @@ bool overOccupied(const Vec2& from, const Vec2& to, double short_of, const Conte
 // ends to walls.
 void snapCorners(std::vector<Piece>& glass, std::vector<Piece>& walls, const Context& ctx) {
   const double snap = ctx.opt.corner_snap;
-  const double glass_snap = std::max(snap, ctx.opt.glass_corner_snap);
+  const double glass_snap = ctx.glassCornerSnap();
   const double sin_min = std::sin(deg2rad(ctx.opt.corner_min_angle_deg));
   // Only pieces long enough to be walls (or panes) of the plan take part; clutter stays apart.
   const double min_len = 2.0 * snap;
   struct End {
     Piece* piece;
     bool end;              // false: t0, true: t1
-    std::size_t own_wall;  // the piece's own index among the walls, or walls.size()
-    double snap;           // how far the end may move
+    std::size_t own_wall;  // the piece's own index among the walls, or walls.size() for a pane
   };
   std::vector<End> ends;
   std::vector<Vec2> points;
-  auto addEnds = [&](Piece& p, std::size_t own, double reach) {
+  auto addEnds = [&](Piece& p, std::size_t own) {
     if (p.length() < min_len) return;
     for (int e = 0; e < 2; ++e) {
-      ends.push_back({&p, e == 1, own, reach});
+      ends.push_back({&p, e == 1, own});
       points.push_back(e == 0 ? p.a() : p.b());
     }
   };
-  for (std::size_t k = 0; k < walls.size(); ++k) addEnds(walls[k], k, snap);
-  for (Piece& g : glass) addEnds(g, walls.size(), glass_snap);
+  for (std::size_t k = 0; k < walls.size(); ++k) addEnds(walls[k], k);
+  for (Piece& g : glass) addEnds(g, walls.size());
   // A wall whose intersection can move an end lies within the end's snap plus snap of it (the
   // intersection is within the end's snap of the end and within snap of the wall): walls' boxes
   // grown by glass_snap + snap hold those ends.
@@ -112,7 +111,8 @@ void snapCorners(std::vector<Piece>& glass, std::vector<Piece>& walls, const Con
     const End& end_info = ends[e];
     Piece& p = *end_info.piece;
     const Vec2 end = points[e];
-    double best = end_info.snap, best_t = 0;
+    const bool pane = end_info.own_wall == walls.size();
+    double best = pane ? glass_snap : snap, best_t = 0;
     bool found = false;
     for (std::size_t m = first; m < last; ++m) {
       const std::size_t k = pairs[m].second;
@@ -131,9 +131,7 @@ void snapCorners(std::vector<Piece>& glass, std::vector<Piece>& walls, const Con
       const double len = end_info.end ? t - p.t0 : p.t1 - t;
       if (len < 0.5 * p.length()) continue;
       // A pane whose line runs on as a wall ends in that wall: it does not grow over it.
-      if (end_info.own_wall == walls.size() &&
-          overOccupied(end, x, 0.5 * w.thickness / std::abs(cross) + ctx.grid.resolution, ctx))
-        continue;
+      if (pane && overOccupied(end, x, 0.5 * w.thickness / std::abs(cross) + ctx.grid.resolution, ctx)) continue;
       best = dist;
       best_t = t;
       found = true;

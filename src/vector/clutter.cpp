@@ -123,7 +123,9 @@ void separateClutter(std::vector<Piece> joined, const std::vector<std::size_t>& 
   }
   for (std::size_t i = 0; i < n; ++i)
     if (shadowed[i]) wall[i] = 0;
-  // Pieces joining walls (or panes) at both ends are walls too, found outward from the walls.
+  // Pieces joining walls (or panes) at both ends are walls too, found outward from the walls. A
+  // pane's line counts as far as snapCorners moves its end onto a wall.
+  const double pane_reach = ctx.glassCornerSnap() - ctx.opt.corner_snap;
   for (bool changed = true; changed;) {
     changed = false;
     for (std::size_t i = 0; i < n; ++i) {
@@ -136,8 +138,6 @@ void separateClutter(std::vector<Piece> joined, const std::vector<std::size_t>& 
       };
       for (std::size_t j = 0; j < n; ++j)
         if (j != i && wall[j]) check(joined[j], 0.0);
-      // A pane's end moves onto a wall up to glass_corner_snap away (snapCorners).
-      const double pane_reach = std::max(0.0, ctx.opt.glass_corner_snap - ctx.opt.corner_snap);
       for (const Piece& g : glass) check(g, pane_reach);
       if (at_a && at_b) wall[i] = 1, changed = true;
     }

@@ -9,6 +9,7 @@
 //   cleanup.cpp  one-sided walls onto their face, dominant axes, corners
 //   vectorize.cpp  the order of the steps, and pieces -> MapSegments
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -55,6 +56,9 @@ struct Context {
     const int y = static_cast<int>(std::floor(p.y() / grid.resolution));
     return x >= 0 && y >= 0 && x < grid.width && y < grid.height ? grid.code(x, y) : kCodeUnknown;
   }
+  /// How far a pane's end moves onto a wall (glass_corner_snap, never less than a wall end's
+  /// corner_snap) [m].
+  double glassCornerSnap() const { return std::max(opt.corner_snap, opt.glass_corner_snap); }
   /// True when the cell under p (grid frame) is free space.
   bool isFree(const Vec2& p) const {
     const int x = static_cast<int>(std::floor(p.x() / grid.resolution));
