@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <filesystem>
+#include <system_error>
 #include <fstream>
 #include <iterator>
 
@@ -48,21 +50,42 @@ bool mallocReadsTunables() {
 #endif
 }
 
-void useHugePages(char** argv) {
-  if (!mallocReadsTunables()) return;
+TunablesChange requestHugePages() {
+  TunablesChange change;
+  if (!mallocReadsTunables()) return change;
   const char* before = std::getenv("GLIBC_TUNABLES");
   const std::optional<std::string> tunables =
       hugePageTunables(before, kernelThpMode(), std::getenv("GLASSMAP_HUGE_PAGES"), std::getenv("LD_PRELOAD"));
-  if (!tunables) return;
-  const std::optional<std::string> saved = before ? std::optional<std::string>(before) : std::nullopt;
-  if (setenv("GLIBC_TUNABLES", tunables->c_str(), 1) != 0) return;
+  if (!tunables) return change;
+  if (before) change.before = std::string(before);
+  change.changed = setenv("GLIBC_TUNABLES", tunables->c_str(), 1) == 0;
+  return change;
+}
+
+void useHugePages(char** argv) {
+  const TunablesChange change = requestHugePages();
+  if (!change.changed) return;
   execv("/proc/self/exe", argv);
   // Still here: no /proc, or the binary is gone. Carry on as we are.
-  if (saved) {
-    setenv("GLIBC_TUNABLES", saved->c_str(), 1);
+  if (change.before) {
+    setenv("GLIBC_TUNABLES", change.before->c_str(), 1);
   } else {
     unsetenv("GLIBC_TUNABLES");
   }
+}
+
+std::string programBeside(const char* argv0, std::string_view name) {
+  std::string self;
+  std::error_code error;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    self = exe.string();
+  } else if (argv0 && std::string_view(argv0).find('/') != std::string_view::npos) {
+    self = argv0;
+  } else {
+    return std::string(name);
+  }
+  return (std::filesystem::path(self).parent_path() / name).string();
 }
 
 }  // namespace glassmap::cli

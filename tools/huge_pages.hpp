@@ -33,10 +33,23 @@ std::optional<std::string> hugePageTunables(const char* tunables, std::string_vi
 /// own allocator).
 bool mallocReadsTunables();
 
+/// Sets GLIBC_TUNABLES to hugePageTunables' value for this process's environment and kernel, when
+/// there is one and glibc's malloc is the allocator (not under a sanitizer, whose allocator
+/// ignores it); returns the value it replaced (nullopt: unset) when it set it, or nothing.
+struct TunablesChange {
+  bool changed = false;
+  std::optional<std::string> before;
+};
+TunablesChange requestHugePages();
+
 /// Starts the program again (/proc/self/exe, the same arguments) with the tunable set, when
-/// hugePageTunables says so and glibc's malloc is the allocator (not under a sanitizer, whose
-/// allocator ignores it). Returns only when it did not: nothing to do, or the exec failed (the
-/// environment then is as it was).
+/// requestHugePages sets it. Returns only when it did not: nothing to do, or the exec failed (the
+/// environment then is as it was). A program started by the glassmap launcher (launcher.cpp) has
+/// the tunable already and goes on.
 void useHugePages(char** argv);
+
+/// The program `name` in the directory of the running program (/proc/self/exe; without /proc,
+/// the directory of argv0 when it names one); `name` alone (looked up in PATH) when neither does.
+std::string programBeside(const char* argv0, std::string_view name);
 
 }  // namespace glassmap::cli
