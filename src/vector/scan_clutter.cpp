@@ -2,6 +2,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <chrono>
@@ -39,10 +40,13 @@ class Returns {
       }
     };
     std::vector<Keyed> keyed(raw.size());
-    for (std::size_t i = 0; i < raw.size(); ++i)
+    tbb::parallel_for(std::size_t{0}, raw.size(), [&](std::size_t i) {
       keyed[i] = {static_cast<std::int64_t>(std::floor(raw[i].y() / kMerge)),
                   static_cast<std::int64_t>(std::floor(raw[i].x() / kMerge)), static_cast<std::uint32_t>(i)};
-    std::sort(keyed.begin(), keyed.end());
+    });
+    // The keys are distinct (the index breaks ties): any sort, on any number of threads, gives
+    // this one order.
+    tbb::parallel_sort(keyed.begin(), keyed.end());
     for (std::size_t i = 0; i < keyed.size();) {
       std::size_t j = i;
       Eigen::Vector2d sum = Eigen::Vector2d::Zero();
