@@ -11,9 +11,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <boost/math/special_functions/beta.hpp>
 #include <boost/pending/disjoint_sets.hpp>
 
+#include "binomial.hpp"
 #include "glass_tiles.hpp"
 #include "glassmap/glass/scan_coherence.hpp"
 #include "glassmap/grid/parallel_scans.hpp"
@@ -64,17 +64,8 @@ void countSpurious(const LaserScan& scan, const OpaqueGlassOptions& o, std::uint
   }
 }
 
-// The least share of the beams along its normal that a cell of a pane returns (rplidar-a2's
-// faint lobe, peak 0.3 and sigma 1 deg, averaged over a 5 deg bin and spread over the cells a
-// pane crosses, returns about 0.08-0.15).
-constexpr double kLeastNormalRate = 0.05;
-
-// log10 P(X <= k) for X ~ Binomial(n, p), 0 < p < 1: the regularised incomplete beta's complement.
-double log10BinomialCdf(int k, int n, double p) {
-  if (k >= n) return 0.0;
-  const double cdf = boost::math::ibetac(static_cast<double>(k + 1), static_cast<double>(n - k), p);
-  return cdf > 0.0 ? std::log10(cdf) : -std::numeric_limits<double>::infinity();
-}
+using detail::kLeastNormalRate;
+using detail::log10BinomialCdf;
 
 // How the near-normal beams of each pane (or unit: indexed by its representative slot, the
 // beams' `run`) hang together within scans and by visit, and whether that makes it a transient

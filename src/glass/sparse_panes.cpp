@@ -10,12 +10,12 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <Eigen/Geometry>
-#include <boost/math/special_functions/beta.hpp>
 
 #include "glassmap/glass/scan_coherence.hpp"
 #include "glassmap/grid/angle_histograms.hpp"
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
+#include "binomial.hpp"
 #include "line_votes.hpp"
 #include "mirror_image.hpp"
 #include "weak_returns.hpp"
@@ -28,6 +28,8 @@ using sparse::kAngleBins;
 using sparse::Line;
 using sparse::seedLines;
 using sparse::WeakReturn;
+using detail::log10BinomialCdf;
+using detail::log10BinomialTail;
 using sparse::WeakReturns;
 using sparse::wrapPi;
 
@@ -126,15 +128,6 @@ std::vector<Run> splitRuns(const std::vector<WeakReturn>& w, std::vector<std::si
     runs.back().returns.push_back(i);
   }
   return runs;
-}
-
-// log10 of P(X >= k) for X ~ Binomial(n, p).
-double log10BinomialTail(int k, int n, double p) {
-  if (k <= 0) return 0.0;
-  if (k > n) n = k;
-  if (p >= 1.0) return 0.0;
-  const double tail = boost::math::ibeta(static_cast<double>(k), static_cast<double>(n - k + 1), p);
-  return tail > 0.0 ? std::log10(tail) : -std::numeric_limits<double>::infinity();
 }
 
 // The runs by coarse tile (1 m): run r is listed in every tile that its segment, widened by `band`
@@ -446,6 +439,12 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
   countCrossings(
       log, beams, e, runs, tol_r, tol_a, [&](double range) { return std::max(o.beyond, 5.0 * sigmaAt(range)); }, pass,
       hit, near);
+  // Each run's near-normal beams, and those it returned.
+  std::vector<int> near_met(runs.size(), 0), near_returned(runs.size(), 0);
+  for (const sparse::NearNormalBeam& b : near) {
+    ++near_met[b.run];
+    near_returned[b.run] += b.returned ? 1 : 0;
+  }
   const std::vector<sparse::ScanCoherence> coherence =
       sparse::scanCoherence(near, runs.size(), deg2rad(o.lobe_bin_deg));
   const std::vector<sparse::ScanCoherence> by_visit =
@@ -457,6 +456,12 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     if (pass[r] < static_cast<std::uint64_t>(o.min_returns) ||
         static_cast<double>(pass[r]) < o.min_transmission * total) {
       ++stats.rejected_opaque;
+      continue;
+    }
+    // Far fewer near-normal returns than the faintest pane gives: hits now and then (people).
+    if (o.min_normal_rate > 0.0 &&
+        log10BinomialCdf(near_returned[r], near_met[r], o.min_normal_rate) < std::log10(o.max_faint_p)) {
+      ++stats.rejected_faint;
       continue;
     }
     runs[r].transmission = static_cast<double>(pass[r]) / total;
