@@ -4,9 +4,9 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <system_error>
 #include <fstream>
 #include <iterator>
+#include <system_error>
 
 namespace glassmap::cli {
 

@@ -11,11 +11,11 @@
 #include <tbb/parallel_for.h>
 #include <Eigen/Geometry>
 
+#include "binomial.hpp"
 #include "glassmap/glass/scan_coherence.hpp"
 #include "glassmap/grid/angle_histograms.hpp"
 #include "glassmap/grid/parallel_scans.hpp"
 #include "glassmap/grid/traversal.hpp"
-#include "binomial.hpp"
 #include "line_votes.hpp"
 #include "mirror_image.hpp"
 #include "weak_returns.hpp"
@@ -23,13 +23,13 @@
 namespace glassmap::glass {
 namespace {
 
+using detail::log10BinomialCdf;
+using detail::log10BinomialTail;
 using sparse::angleDiff;
 using sparse::kAngleBins;
 using sparse::Line;
 using sparse::seedLines;
 using sparse::WeakReturn;
-using detail::log10BinomialCdf;
-using detail::log10BinomialTail;
 using sparse::WeakReturns;
 using sparse::wrapPi;
 

@@ -109,8 +109,8 @@ TEST(Launcher, GivesTheEngineItsArgumentsAndTheTunable) {
   const char* before = std::getenv("GLIBC_TUNABLES");
   std::string expected = before ? before : "unset";
   if (mallocReadsTunables()) {
-    if (const auto t = hugePageTunables(before, kernelThpMode(), std::getenv("GLASSMAP_HUGE_PAGES"),
-                                        std::getenv("LD_PRELOAD")))
+    if (const auto t =
+            hugePageTunables(before, kernelThpMode(), std::getenv("GLASSMAP_HUGE_PAGES"), std::getenv("LD_PRELOAD")))
       expected = *t;
   }
   const Outcome r = run("'" + copy.launcher.string() + "' first 'second argument'");

@@ -68,10 +68,10 @@ struct SparsePaneOptions {
   /// 100 m^2: 0.9-1.7%, on lines across corridors 1-5 m from any pane). 0 turns the test off.
   double min_normal_rate = 0.05;
   double max_faint_p = 1e-3;
-  double beyond = 0.3;            ///< ...at least this far past the line [m] (at least 5 sigma(r))
-  double glass_margin = 0.15;     ///< a return crossed another pane when it did this far before it [m]
-  int min_pane_cells = 4;         ///< ...in a glass cell with this many glass cells in its 5 x 5 block
-  double max_via = 0.5;           ///< a run is not a pane when this share of its returns crossed another
+  double beyond = 0.3;         ///< ...at least this far past the line [m] (at least 5 sigma(r))
+  double glass_margin = 0.15;  ///< a return crossed another pane when it did this far before it [m]
+  int min_pane_cells = 4;      ///< ...in a glass cell with this many glass cells in its 5 x 5 block
+  double max_via = 0.5;        ///< a run is not a pane when this share of its returns crossed another
   /// A run is a transient (people walking by) when, for a static surface, the near-normal beams of
   /// its scans would return together this rarely (one-sided p of the within-scan correlation's
   /// score test)...
