@@ -26,7 +26,7 @@ std::string kernelThpMode() {
 std::optional<std::string> hugePageTunables(const char* tunables, std::string_view thp_mode, const char* opt_out,
                                             const char* preload) {
   if (opt_out && std::string_view(opt_out) == "0") return std::nullopt;
-  if (preload && std::string_view(preload).find("vgpreload") != std::string_view::npos) return std::nullopt;
+  if (underValgrind(preload)) return std::nullopt;
   if (thp_mode != "madvise") return std::nullopt;
   const std::string_view current = tunables ? tunables : "";
   if (current.find("glibc.malloc.hugetlb") != std::string_view::npos) return std::nullopt;
@@ -34,6 +34,10 @@ std::optional<std::string> hugePageTunables(const char* tunables, std::string_vi
   if (!out.empty()) out += ':';
   out += "glibc.malloc.hugetlb=1";
   return out;
+}
+
+bool underValgrind(const char* preload) {
+  return preload && std::string_view(preload).find("vgpreload") != std::string_view::npos;
 }
 
 bool mallocReadsTunables() {

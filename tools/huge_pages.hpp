@@ -29,17 +29,23 @@ std::string kernelThpMode();
 std::optional<std::string> hugePageTunables(const char* tunables, std::string_view thp_mode, const char* opt_out,
                                             const char* preload = nullptr);
 
+/// Whether LD_PRELOAD (nullptr: unset) holds valgrind's preloaded vgpreload libraries: the process
+/// runs under valgrind, which follows a new program only with --trace-children=yes.
+bool underValgrind(const char* preload);
+
 /// Whether the allocator is glibc's own malloc, which reads the tunable (a sanitizer brings its
 /// own allocator).
 bool mallocReadsTunables();
 
-/// Sets GLIBC_TUNABLES to hugePageTunables' value for this process's environment and kernel, when
-/// there is one and glibc's malloc is the allocator (not under a sanitizer, whose allocator
-/// ignores it); returns the value it replaced (nullopt: unset) when it set it, or nothing.
+/// What requestHugePages did: whether it set GLIBC_TUNABLES, and the value it replaced (nullopt: unset).
 struct TunablesChange {
   bool changed = false;
   std::optional<std::string> before;
 };
+
+/// Sets GLIBC_TUNABLES to hugePageTunables' value for this process's environment and kernel, when
+/// there is one and glibc's malloc is the allocator (not under a sanitizer, whose allocator
+/// ignores it).
 TunablesChange requestHugePages();
 
 /// Starts the program again (/proc/self/exe, the same arguments) with the tunable set, when

@@ -11,14 +11,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
-#include <string_view>
 
 #include "huge_pages.hpp"
 
 int main(int, char** argv) {
   const std::string engine = glassmap::cli::programBeside(argv[0], "glassmap-engine");
-  const char* preload = std::getenv("LD_PRELOAD");
-  if (preload && std::string_view(preload).find("vgpreload") != std::string_view::npos) {
+  if (glassmap::cli::underValgrind(std::getenv("LD_PRELOAD"))) {
     std::fprintf(stderr,
                  "glassmap: note: valgrind follows this launcher into %s only with --trace-children=yes; "
                  "or run that program under it directly\n",

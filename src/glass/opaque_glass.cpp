@@ -64,8 +64,8 @@ void countSpurious(const LaserScan& scan, const OpaqueGlassOptions& o, std::uint
   }
 }
 
-using detail::kLeastNormalRate;
 using detail::log10BinomialCdf;
+using sparse::kLeastNormalRate;
 
 // How the near-normal beams of each pane (or unit: indexed by its representative slot, the
 // beams' `run`) hang together within scans and by visit, and whether that makes it a transient

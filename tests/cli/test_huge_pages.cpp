@@ -51,6 +51,9 @@ TEST(HugePages, NotUnderValgrind) {
                                 "/usr/libexec/valgrind/vgpreload_memcheck-amd64-linux.so"));
   EXPECT_EQ(hugePageTunables(nullptr, "madvise", nullptr, "/usr/lib/x86_64-linux-gnu/libjemalloc.so.2"),
             "glibc.malloc.hugetlb=1");
+  EXPECT_TRUE(underValgrind("/usr/libexec/valgrind/vgpreload_core-amd64-linux.so"));
+  EXPECT_FALSE(underValgrind("/usr/lib/x86_64-linux-gnu/libjemalloc.so.2"));
+  EXPECT_FALSE(underValgrind(nullptr));
 }
 
 // Runs a shell command; its output (stdout and stderr) and exit status.

@@ -14,6 +14,16 @@
 
 namespace glassmap::glass::sparse {
 
+/// The least share of the beams along its normal that a pane returns, the floor below which
+/// returns are not a pane's (the sparse-pane search per run, SparsePaneOptions::min_normal_rate; the
+/// opaque-glass test per cell). rplidar-a2's faint lobe (peak 0.3, sigma 1 deg) averaged over a 5 deg
+/// bin and spread over the cells a pane crosses returns about 0.08-0.15 per cell; a run's beams
+/// within 3 deg of its normal, on the sparse panes of 39 random lasers without people
+/// (tools/sensor_sweep.py), 0.073 at least; people crossing a corridor far down the robot's line of
+/// sight 0.009-0.017 (four logs of 5 people per 100 m^2). The calibration takes a lobe down to a
+/// peak of 0.05 (pipeline::MapOptions::min_lobe_peak).
+inline constexpr double kLeastNormalRate = 0.05;
+
 /// A beam that met a run within the angle tolerance of its normal: it returned on the run or passed it.
 struct NearNormalBeam {
   std::uint32_t run = 0;   ///< the run's index

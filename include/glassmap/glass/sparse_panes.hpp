@@ -61,12 +61,11 @@ struct SparsePaneOptions {
   double log10_max_nfa = -10.0;
   double min_transmission = 0.5;  ///< share of the beams meeting the run that pass it and end beyond
   /// A pane returns at least this share of the beams that meet it within angle_tol_deg of its
-  /// normal (the faintest lobe glass shows; measured on the 39 random lasers' sparse panes without
-  /// people: 0.073 at least). A run whose near-normal beams came back less often, at a one-sided
-  /// binomial p below max_faint_p, is no pane: people crossing a corridor far down the robot's line
-  /// of sight, hit now and then over hundreds of scans, return 1-2% of them (4 people logs of 5 per
-  /// 100 m^2: 0.9-1.7%, on lines across corridors 1-5 m from any pane). 0 turns the test off.
-  double min_normal_rate = 0.05;
+  /// normal (sparse::kLeastNormalRate, with its measurements). A run whose near-normal beams came
+  /// back less often, at a one-sided binomial p below max_faint_p, is no pane: people crossing a
+  /// corridor far down the robot's line of sight, hit now and then over hundreds of scans. 0 turns
+  /// the test off.
+  double min_normal_rate = sparse::kLeastNormalRate;
   double max_faint_p = 1e-3;
   double beyond = 0.3;         ///< ...at least this far past the line [m] (at least 5 sigma(r))
   double glass_margin = 0.15;  ///< a return crossed another pane when it did this far before it [m]
