@@ -144,7 +144,9 @@ void run(MapArgs& args) {
           "%zu too faint, %zu transient, %zu through another pane)\n",
           "sparse panes", result.sparse.panes, result.sparse.metres, result.sparse.runs_tested,
           result.sparse.weak_returns, result.sparse.rejected_chance, result.sparse.rejected_opaque,
-          result.sparse.rejected_faint, result.sparse.rejected_transient, result.sparse.rejected_through);
+          result.sparse.rejected_faint,
+          result.sparse.rejected_transient + result.sparse.rejected_one_visit + result.sparse.rejected_place,
+          result.sparse.rejected_through);
     if (options.opaque_glass)
       std::printf(
           "%-22s %zu of %zu glass cells relabelled (the beams crossing them stop just behind, or %zu panes of %zu "

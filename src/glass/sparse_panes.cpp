@@ -38,9 +38,9 @@ struct Run {
   Line line;
   double s0 = 0.0, s1 = 0.0;
   std::vector<std::size_t> returns;
-  double log10_nfa = 0.0;                   // expected false alarms of a run like it, log10
-  double transmission = 0.0;                // share of the beams meeting it that passed
-  sparse::ScanCoherence by_scan, by_visit;  // its near-normal beams within scans and within visits
+  double log10_nfa = 0.0;                             // expected false alarms of a run like it, log10
+  double transmission = 0.0;                          // share of the beams meeting it that passed
+  sparse::ScanCoherence by_scan, by_visit, by_place;  // its near-normal beams within scans, within visits, at one place
   Vec2 end(double s) const { return line.rho * line.normal() + s * line.tangent(); }
 };
 
@@ -201,10 +201,11 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const C
         const Vec2 n = runs[r].line.normal(), tg = runs[r].line.tangent();
         const double f = n.dot(beam.from) - runs[r].line.rho, g = n.dot(beam.to) - runs[r].line.rho;
         const double incidence = std::abs(angleDiff(direction, runs[r].line.angle));
-        auto nearNormal = [&](bool returned) {
+        auto nearNormal = [&](bool returned, double along) {
           if (incidence <= tol_a)
             t.near.push_back({static_cast<std::uint32_t>(r), static_cast<std::uint32_t>(index),
-                              static_cast<float>(incidence), returned, scan.timestamp});
+                              static_cast<float>(incidence), returned, scan.timestamp,
+                              static_cast<float>(along - runs[r].s0)});
         };
         if (!beam.hit) {
           // No echo within the cap (nothing in range behind the run, or a dropout): the run did not
@@ -216,7 +217,7 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const C
             const double at = f / (f - g);
             const double along = tg.dot(beam.from + at * (beam.to - beam.from));
             if (along < runs[r].s0 || along > runs[r].s1) return;
-            nearNormal(false);
+            nearNormal(false, along);
             if (clear < 0.0) clear = sparse::clearUntil(e.geometry, e.label, beam.from, beam.to);
             if (at < clear && (1.0 - at) * beam.range >= beyond) ++t.pass[r];
           }
@@ -226,7 +227,7 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const C
           const double along = tg.dot(beam.to);
           if (along >= runs[r].s0 && along <= runs[r].s1 && std::abs(f) > band) {
             ++t.hit[r];
-            nearNormal(true);
+            nearNormal(true, along);
           }
         } else if ((f > 0) != (g > 0)) {
           // Crossed: a pass when it ends well beyond, else it stopped just behind (a wall's face).
@@ -234,7 +235,7 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const C
           if (along < runs[r].s0 || along > runs[r].s1) return;
           if (std::abs(g) >= beyond) {
             ++t.pass[r];
-            nearNormal(false);
+            nearNormal(false, along);
           } else {
             ++t.hit[r];
           }
@@ -450,6 +451,10 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
   const std::vector<sparse::ScanCoherence> by_visit =
       o.max_visit_gap_s > 0.0 ? sparse::visitCoherence(near, runs.size(), deg2rad(o.lobe_bin_deg), o.max_visit_gap_s)
                               : std::vector<sparse::ScanCoherence>(runs.size());
+  const std::vector<sparse::ScanCoherence> by_place =
+      o.max_place_dt_s > 0.0
+          ? sparse::placeCoherence(near, runs.size(), deg2rad(o.lobe_bin_deg), o.max_place_dt_s, o.max_place_ds)
+          : std::vector<sparse::ScanCoherence>(runs.size());
   std::vector<Run> seen_through;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const double total = static_cast<double>(pass[r] + hit[r]);
@@ -467,6 +472,7 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     runs[r].transmission = static_cast<double>(pass[r]) / total;
     runs[r].by_scan = coherence[r];
     runs[r].by_visit = by_visit[r];  // all zero when the test is off: never a transient
+    runs[r].by_place = by_place[r];  // (the same)
     if (sparse::isTransient(coherence[r], o.max_transient_p, o.min_transient_correlation)) {
       ++stats.rejected_transient;
       continue;
@@ -482,6 +488,13 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     }
     if (sparse::isTransient(by_visit[r], o.max_transient_p, o.min_visit_correlation)) {
       ++stats.rejected_one_visit;
+      continue;
+    }
+    // At one place moments apart, at the within-scan test's significance (its one-visit one for a
+    // run seen in one visit).
+    if (sparse::isTransient(by_place[r], by_visit[r].scans == 1 ? o.max_one_visit_transient_p : o.max_transient_p,
+                            o.min_transient_correlation)) {
+      ++stats.rejected_place;
       continue;
     }
     seen_through.push_back(std::move(runs[r]));
@@ -520,7 +533,7 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     ++stats.panes;
     stats.metres += run.s1 - run.s0;
     stats.found.push_back({run.end(run.s0), run.end(run.s1), run.returns.size(), run.log10_nfa, run.transmission,
-                           run.by_scan, run.by_visit});
+                           run.by_scan, run.by_visit, run.by_place});
     for (std::size_t i : to_draw[r]) {
       if (e.label[i] != kEmpty) continue;  // an earlier pane drew it
       e.label[i] = labelOf(run);

@@ -28,7 +28,10 @@ nlohmann::json sparsePanesJson(const std::vector<glass::SparsePane>& panes) {
                  {"near_normal_scans", p.by_scan.scans},
                  {"visit_z", p.by_visit.z},
                  {"visit_correlation", p.by_visit.correlation},
-                 {"visits", p.by_visit.scans}});
+                 {"visits", p.by_visit.scans},
+                 {"place_z", p.by_place.z},
+                 {"place_correlation", p.by_place.correlation},
+                 {"place_pairs", p.by_place.scans}});
   return j;
 }
 
@@ -186,6 +189,8 @@ nlohmann::json mapOptionsJson(const MapOptions& options) {
             {"range_sigma", options.sparse.range_sigma},
             {"min_transmission", options.sparse.min_transmission},
             {"min_normal_rate", options.sparse.min_normal_rate},
+            {"max_place_dt_s", options.sparse.max_place_dt_s},
+            {"max_place_ds", options.sparse.max_place_ds},
             {"log10_max_nfa", options.sparse.log10_max_nfa}}},
           {"opaque_glass",
            {{"enabled", options.opaque_glass},
@@ -281,6 +286,7 @@ nlohmann::json mapStatsJson(const MapResult& result, const MapOptions& options, 
                         {"rejected_transient", result.sparse.rejected_transient},
                         {"rejected_transient_one_visit", result.sparse.rejected_transient_one_visit},
                         {"rejected_one_visit", result.sparse.rejected_one_visit},
+                        {"rejected_place", result.sparse.rejected_place},
                         {"rejected_through", result.sparse.rejected_through},
                         {"found", sparsePanesJson(result.sparse.found)}}},
                       {"opaque_glass",

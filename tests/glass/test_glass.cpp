@@ -279,7 +279,7 @@ TEST(EmptyHitRate, CountsTheEmptyCellsAwayFromTheSurfaces) {
   e.geometry = g;
   e.label.assign(g.cells(), kEmpty);
   for (int y = 0; y < g.height; ++y) e.label[g.index(3, y)] = kOccupied;  // a wall along x = 3
-  e.label[g.index(15, 6)] = glassLabel(4);                               // a pane cell
+  e.label[g.index(15, 6)] = glassLabel(4);                                // a pane cell
   e.label[g.index(10, 0)] = kUnknown;
   std::uint64_t hits = 0, misses = 0;
   std::size_t cells = 0;
@@ -367,14 +367,61 @@ TEST(VisitCoherence, APersonAnswersOneVisitAPaneEvery) {
       << visits[0].z << " " << visits[0].correlation;
   EXPECT_TRUE(sparse::isTransient(visits[1], o.max_transient_p, o.min_visit_correlation))
       << visits[1].z << " " << visits[1].correlation;
-  std::printf("within scans: pane z %.2f, person z %.2f (corr %.3f); by visit: pane z %.2f (corr %.3f), person z %.2f "
-              "(corr %.3f)\n",
-              scans[0].z, scans[1].z, scans[1].correlation, visits[0].z, visits[0].correlation, visits[1].z,
-              visits[1].correlation);
+  std::printf(
+      "within scans: pane z %.2f, person z %.2f (corr %.3f); by visit: pane z %.2f (corr %.3f), person z %.2f "
+      "(corr %.3f)\n",
+      scans[0].z, scans[1].z, scans[1].correlation, visits[0].z, visits[0].correlation, visits[1].z,
+      visits[1].correlation);
   // One visit: nothing to compare (its rate is its own).
   const std::vector<sparse::NearNormalBeam> once(person.begin() + 180, person.begin() + 270);
-  EXPECT_FALSE(
-      sparse::isTransient(sparse::visitCoherence(once, 2, bin, o.max_visit_gap_s)[1], o.max_transient_p, 0.0));
+  EXPECT_FALSE(sparse::isTransient(sparse::visitCoherence(once, 2, bin, o.max_visit_gap_s)[1], o.max_transient_p, 0.0));
+}
+
+// One visit: the robot passes a 2 m run at 0.5 m/s, 10 Hz, 15 near-normal beams a scan 8 cm apart
+// about its foot on the run. A pane answers each beam at its rate; a person walks along the run at
+// 1.2 m/s, 0.4 m wide, and answers the beams that meet it. Its scans' beams meet more of the line
+// than the person, so within scans it correlates too little for a transient; at one place moments
+// apart it answers scan after scan.
+TEST(PlaceCoherence, APersonWalkingAlongTheRunAnswersItsPlaceScanAfterScan) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto beams = [&](std::uint32_t run, auto&& returns) {
+    std::vector<sparse::NearNormalBeam> out;
+    for (std::uint32_t scan = 0; scan < 40; ++scan) {
+      const double t = 0.1 * scan, foot = 0.5 * t;
+      for (int b = -7; b <= 7; ++b) {
+        const double along = foot + 0.08 * b;
+        if (along < 0.0 || along > 2.0) continue;
+        const auto incidence = static_cast<float>(std::abs(0.08 * b) / 6.0);  // the run 6 m off
+        out.push_back({run, scan, incidence, returns(t, along), t, static_cast<float>(along)});
+      }
+    }
+    return out;
+  };
+  std::vector<sparse::NearNormalBeam> near = beams(0, [&](double, double) { return u(rng) < 0.5; });
+  const auto person =
+      beams(1, [&](double t, double along) { return std::abs(along - (1.2 * t - 0.7)) <= 0.2 && u(rng) < 0.9; });
+  near.insert(near.end(), person.begin(), person.end());
+  const SparsePaneOptions o;
+  const double bin = deg2rad(o.lobe_bin_deg);
+  const std::vector<sparse::ScanCoherence> scans = sparse::scanCoherence(near, 2, bin);
+  const std::vector<sparse::ScanCoherence> place =
+      sparse::placeCoherence(near, 2, bin, o.max_place_dt_s, o.max_place_ds);
+  EXPECT_FALSE(sparse::isTransient(scans[0], o.max_transient_p, o.min_transient_correlation));
+  EXPECT_FALSE(sparse::isTransient(scans[1], o.max_one_visit_transient_p, o.min_transient_correlation))
+      << scans[1].z << " " << scans[1].correlation;
+  EXPECT_FALSE(sparse::isTransient(place[0], o.max_one_visit_transient_p, o.min_transient_correlation))
+      << place[0].z << " " << place[0].correlation;
+  EXPECT_TRUE(sparse::isTransient(place[1], o.max_transient_p, o.min_transient_correlation))
+      << place[1].z << " " << place[1].correlation;
+  EXPECT_GT(place[1].scans, 100u);  // pairs
+  // Pairs only within the time window: none with a window shorter than a scan.
+  EXPECT_EQ(sparse::placeCoherence(near, 2, bin, 0.05, o.max_place_ds)[1].scans, 0u);
+  std::printf(
+      "within scans: pane %.3f (z %.2f), person %.3f (z %.2f); at one place: pane %.3f (z %.2f), person %.3f "
+      "(z %.2f)\n",
+      scans[0].correlation, scans[0].z, scans[1].correlation, scans[1].z, place[0].correlation, place[0].z,
+      place[1].correlation, place[1].z);
 }
 
 TEST(Direct, WallOnlySceneHasNoGlass) {

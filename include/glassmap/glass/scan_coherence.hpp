@@ -30,7 +30,8 @@ struct NearNormalBeam {
   std::uint32_t scan = 0;  ///< its scan's index in the log
   float incidence = 0.0f;  ///< angle to the run's normal [rad], absolute
   bool returned = false;   ///< true: returned on the run; false: passed it
-  double time = 0.0;       ///< its scan's timestamp [s] (visitCoherence)
+  double time = 0.0;       ///< its scan's timestamp [s] (visitCoherence, placeCoherence)
+  float along = 0.0f;      ///< where it met the run, along the run's line [m] (placeCoherence)
 };
 
 /// How the outcomes of one run's near-normal beams hang together within scans.
@@ -52,6 +53,16 @@ std::vector<ScanCoherence> scanCoherence(std::vector<NearNormalBeam>& beams, std
 /// the others. With one visit there is nothing to compare (z = 0).
 std::vector<ScanCoherence> visitCoherence(std::vector<NearNormalBeam> beams, std::size_t runs, double bin_width,
                                           double max_gap_s);
+
+/// The same test on pairs of beams of different scans at most max_dt_s apart that met the run at
+/// most max_ds apart along it: one place, moments apart. A pane answers each of them on its own; a
+/// person answers every beam at its place for as long as it stands there, and a person walking
+/// along the run's line far from the robot (whose near-normal beams meet only a few tenths of a
+/// metre of it per scan, the person part of that) shows more here than within its scans. `scans`
+/// counts the pairs. The pairs share the pose error of scans moments apart, no more than a scan's
+/// beams share theirs.
+std::vector<ScanCoherence> placeCoherence(std::vector<NearNormalBeam> beams, std::size_t runs, double bin_width,
+                                          double max_dt_s, double max_ds);
 
 /// Whether a run is a transient: a static surface would show its z with a one-sided probability
 /// below max_p, and its beams share at least min_correlation of their variation within scans (with
