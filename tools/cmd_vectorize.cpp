@@ -192,9 +192,12 @@ void addMaterialOptions(CLI::App* cmd, const std::string& prefix, vector::Materi
       ->capture_default_str();
   cmd->add_option("--" + prefix + "-min-length", o.min_length, prefix + ": drop shorter segments [m]")
       ->capture_default_str();
-  cmd->add_option("--" + prefix + "-radius", o.neighbour_radius, prefix + ": region growing neighbour radius [m]")
+  const bool wall = prefix == "wall";
+  cmd->add_option("--" + prefix + "-radius", o.neighbour_radius,
+                  prefix + ": region growing neighbour radius [m]" + (wall ? " (at least 1.6 cells)" : ""))
       ->capture_default_str();
-  cmd->add_option("--" + prefix + "-max-distance", o.max_distance, prefix + ": region growing band half-width [m]")
+  cmd->add_option("--" + prefix + "-max-distance", o.max_distance,
+                  prefix + ": region growing band half-width [m]" + (wall ? " (at least 1.5 cells)" : ""))
       ->capture_default_str();
 }
 

@@ -8,7 +8,8 @@ setting, `glassmap bench plan-map` draws the test map, `glassmap vectorize` make
 the scenes' desk outlines are furniture). Prints a Markdown table and writes CSV/JSON.
 
   python3 tools/plan_bench.py [--build build] [--out out/plan_bench] [--seeds 1 2] [--big]
-                              [--extra "--no-structure"] [--plans office-floor,pentagon]
+                              [--extra "--no-structure"] [--map-extra "--resolution 0.1"]
+                              [--plans office-floor,pentagon]
 """
 import argparse
 import csv
@@ -49,6 +50,8 @@ def main():
     ap.add_argument("--plans", default=",".join(PLANS))
     ap.add_argument("--big", action="store_true", help="also the 100 m bench floor (minutes)")
     ap.add_argument("--extra", default="", help="more options for vectorize, e.g. --no-structure")
+    ap.add_argument("--map-extra", default="",
+                    help="more options for bench plan-map, e.g. \"--resolution 0.1 --range-sigma 0.03\"")
     ap.add_argument("--tol", default="0.15")
     args = ap.parse_args()
     exe = os.path.join(args.build, "tools", "glassmap")
@@ -67,7 +70,7 @@ def main():
                 for seed in args.seeds:
                     stem = os.path.join(args.out, f"{name}-{conv}-{furn}-{seed}")
                     run([exe, "bench", "plan-map", plan, "-o", stem, "--convention", conv, "--seed", str(seed), "-q"]
-                        + FURNITURE[furn])
+                        + FURNITURE[furn] + args.map_extra.split())
                     run([exe, "vectorize", stem + ".yaml", "-o", stem + "-plan", "-q", "--json", stem + "-vec.json"]
                         + args.extra.split())
                     run([exe, "eval", "segments", "--truth", stem + "-truth.geojson", "--pred", stem + "-plan.gpkg",

@@ -1,6 +1,7 @@
 // vectorize(): the order of the steps (see piece.hpp for the file of each), and pieces -> segments.
 #include "glassmap/vector/vectorize.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -98,9 +99,18 @@ MapSegment toSegment(const Piece& p, Material material, const CellCloud& cloud, 
 
 }  // namespace
 
-VectorizeResult vectorize(const LabelGrid& grid, const VectorizeOptions& options) {
+MaterialOptions wallsOnGrid(MaterialOptions mo, double resolution) {
+  mo.max_distance = std::max(mo.max_distance, kWallBandCells * resolution);
+  mo.neighbour_radius = std::max(mo.neighbour_radius, kWallNeighbourCells * resolution);
+  mo.normal_radius = std::max(mo.normal_radius, kWallNormalCells * resolution);
+  return mo;
+}
+
+VectorizeResult vectorize(const LabelGrid& grid, const VectorizeOptions& given) {
   const auto start = std::chrono::steady_clock::now();
   grid.validate();
+  VectorizeOptions options = given;
+  options.wall = wallsOnGrid(given.wall, grid.resolution);
   VectorizeResult result;
   VectorizeStats& stats = result.stats;
   const double floor_m = options.noise_floor * grid.resolution;

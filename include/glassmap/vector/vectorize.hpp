@@ -36,6 +36,22 @@ struct MaterialOptions {
   double thickness = 0.10;           ///< thickness written for a segment that has no measured one [m]
 };
 
+/// The wall fit's neighbourhoods are set in metres for maps of 0.05 m cells and finer (the band
+/// 0.10 m, two cells there; the neighbour radius 0.11 m, 2.2 cells; the normal's window 0.16 m,
+/// three cells). On a coarser grid they would shrink below what a wall drawn in cells needs: a
+/// face at a slant wanders up to 0.7 cell off its line, the next cell of a face at 45 degrees lies
+/// 1.41 cells away, and a normal from a 3 x 3 window of a slanted face is noise. So they are at
+/// least kWallBandCells, kWallNeighbourCells and kWallNormalCells cells (nothing changes at 0.05 m
+/// and finer). Measured with tools/plan_bench.py --map-extra "--resolution R" (36 test maps each,
+/// wall F1 median / min, metres -> cells): R 0.075 0.989 / 0.921 -> 1.000 / 0.943; 0.1 0.923 /
+/// 0.749 -> 0.993 / 0.947; 0.15 and 0.2 no wall at all -> 0.985 / 0.902 and 0.979 / 0.908.
+inline constexpr double kWallBandCells = 1.5;
+inline constexpr double kWallNeighbourCells = 1.6;
+inline constexpr double kWallNormalCells = 2.5;
+/// The wall options vectorize() fits with on a grid of `resolution` [m]: max_distance,
+/// neighbour_radius and normal_radius raised to those floors.
+MaterialOptions wallsOnGrid(MaterialOptions wall, double resolution);
+
 /// Structure versus clutter: the building's walls apart from furniture, long walls continued
 /// through what hid them, openings kept (see structure.hpp in src/vector for the steps).
 /// Costs are in nats of description length, against one segment's 2 * 0.5 ln(N) (N wall cells).
