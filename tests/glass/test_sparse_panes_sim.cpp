@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "glass_sim_test_util.hpp"
@@ -145,6 +146,23 @@ TEST(SparsePanes, PeopleWalkingByAreNotPanes) {
   }
 }
 
+// The bundled glass-free floor (maps/no-glass: rooms off a 2 m corridor) with `laser` at 10 Hz and
+// 5 people per 100 m^2 walking (seed 1), classified; the sparse-pane options with its range noise.
+struct PeopleFloor {
+  testing::Classified classified;
+  SparsePaneOptions options;
+};
+PeopleFloor peopleOnTheGlassFreeFloor(const std::string& laser) {
+  sim::Scene scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps/no-glass/scene.yaml");
+  sim::applySensorProfile(scene, sim::sensorProfile(laser));
+  scene.laser.rate = 10.0;
+  scene.people.density = 5.0;
+  PeopleFloor f{testing::simulateAndClassify(scene), {}};
+  f.options.range_sigma = scene.laser.range_sigma;
+  f.options.range_sigma_rel = scene.laser.range_sigma_rel;
+  return f;
+}
+
 // The bundled glass-free floor (maps/no-glass: rooms off a 2 m corridor) with sick-tim571 and 5
 // people per 100 m^2 walking (seed 1): far down the corridor, people crossing it are hit now and
 // then by the beams along it over hundreds of scans, and their returns line up across the corridor
@@ -153,14 +171,9 @@ TEST(SparsePanes, PeopleWalkingByAreNotPanes) {
 // by-visit tests see its coherence, z of 40-60, but at correlations a pane's shared pose error can
 // reach, so they keep it).
 TEST(SparsePanes, PeopleFarDownACorridorAreNoFaintPane) {
-  sim::Scene scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps/no-glass/scene.yaml");
-  sim::applySensorProfile(scene, sim::sensorProfile("sick-tim571"));
-  scene.laser.rate = 10.0;
-  scene.people.density = 5.0;
-  testing::Classified c = testing::simulateAndClassify(scene);
-  SparsePaneOptions so;
-  so.range_sigma = scene.laser.range_sigma;
-  so.range_sigma_rel = scene.laser.range_sigma_rel;
+  PeopleFloor f = peopleOnTheGlassFreeFloor("sick-tim571");
+  testing::Classified& c = f.classified;
+  const SparsePaneOptions& so = f.options;
   CellEvidence e = c.mapped.evidence, without = c.mapped.evidence;
   const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, e);
   SparsePaneOptions no_test = so;
@@ -181,14 +194,9 @@ TEST(SparsePanes, PeopleFarDownACorridorAreNoFaintPane) {
 // one place, moments apart, they return together: refused. Without that test two runs, each a
 // person, were drawn as glass.
 TEST(SparsePanes, PeopleWalkingAlongALineAnswerTheirPlaceScanAfterScan) {
-  sim::Scene scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps/no-glass/scene.yaml");
-  sim::applySensorProfile(scene, sim::sensorProfile("sick-lms200"));
-  scene.laser.rate = 10.0;
-  scene.people.density = 5.0;
-  testing::Classified c = testing::simulateAndClassify(scene);
-  SparsePaneOptions so;
-  so.range_sigma = scene.laser.range_sigma;
-  so.range_sigma_rel = scene.laser.range_sigma_rel;
+  PeopleFloor f = peopleOnTheGlassFreeFloor("sick-lms200");
+  testing::Classified& c = f.classified;
+  const SparsePaneOptions& so = f.options;
   CellEvidence e = c.mapped.evidence, without = c.mapped.evidence;
   const SparsePaneStats s = findSparsePanes(c.log, c.options.beams, so, e);
   SparsePaneOptions no_test = so;
