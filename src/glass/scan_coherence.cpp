@@ -114,7 +114,8 @@ std::vector<ScanCoherence> placeCoherence(std::vector<NearNormalBeam> beams, std
     c.beams = end - begin;
     for (std::size_t i = begin; i < end; ++i)
       for (std::size_t j = i + 1; j < end && beams[j].time - beams[i].time <= max_dt_s; ++j) {
-        if (beams[j].scan == beams[i].scan || std::abs(beams[j].along - beams[i].along) > max_ds) continue;
+        // Scans stamped alike (a log without times) are not known to be moments apart.
+        if (!(beams[j].time > beams[i].time) || std::abs(beams[j].along - beams[i].along) > max_ds) continue;
         const double vi = v[i - begin], vj = v[j - begin];
         t += residual[i - begin] * residual[j - begin];
         var += vi * vj;

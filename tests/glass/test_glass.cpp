@@ -415,8 +415,12 @@ TEST(PlaceCoherence, APersonWalkingAlongTheRunAnswersItsPlaceScanAfterScan) {
   EXPECT_TRUE(sparse::isTransient(place[1], o.max_transient_p, o.min_transient_correlation))
       << place[1].z << " " << place[1].correlation;
   EXPECT_GT(place[1].scans, 100u);  // pairs
-  // Pairs only within the time window: none with a window shorter than a scan.
+  // Pairs only within the time window: none with a window shorter than a scan, and none between
+  // scans stamped alike (a log without times).
   EXPECT_EQ(sparse::placeCoherence(near, 2, bin, 0.05, o.max_place_ds)[1].scans, 0u);
+  std::vector<sparse::NearNormalBeam> untimed = near;
+  for (sparse::NearNormalBeam& b : untimed) b.time = 0.0;
+  EXPECT_EQ(sparse::placeCoherence(untimed, 2, bin, o.max_place_dt_s, o.max_place_ds)[1].scans, 0u);
   std::printf(
       "within scans: pane %.3f (z %.2f), person %.3f (z %.2f); at one place: pane %.3f (z %.2f), person %.3f "
       "(z %.2f)\n",

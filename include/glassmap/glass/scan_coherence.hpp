@@ -54,13 +54,14 @@ std::vector<ScanCoherence> scanCoherence(std::vector<NearNormalBeam>& beams, std
 std::vector<ScanCoherence> visitCoherence(std::vector<NearNormalBeam> beams, std::size_t runs, double bin_width,
                                           double max_gap_s);
 
-/// The same test on pairs of beams of different scans at most max_dt_s apart that met the run at
-/// most max_ds apart along it: one place, moments apart. A pane answers each of them on its own; a
-/// person answers every beam at its place for as long as it stands there, and a person walking
-/// along the run's line far from the robot (whose near-normal beams meet only a few tenths of a
-/// metre of it per scan, the person part of that) shows more here than within its scans. `scans`
-/// counts the pairs. The pairs share the pose error of scans moments apart, no more than a scan's
-/// beams share theirs.
+/// The same test on pairs of beams of scans 0 < dt <= max_dt_s apart (scans stamped alike pair
+/// with none) that met the run at most max_ds apart along it: one place, moments apart. A pane
+/// answers each of them on its own; a person answers every beam at its place for as long as it
+/// stands there, and a person walking along the run's line far from the robot (whose near-normal
+/// beams meet only a few tenths of a metre of it per scan, the person part of that) shows more here
+/// than within its scans. `scans` counts the pairs. The pairs share the pose error of scans moments
+/// apart and, at one place, their incidence: a pose error moves both along the lobe alike, so a
+/// pane's pairs may correlate a little more than its scans' beams (sparse_panes.hpp).
 std::vector<ScanCoherence> placeCoherence(std::vector<NearNormalBeam> beams, std::size_t runs, double bin_width,
                                           double max_dt_s, double max_ds);
 
