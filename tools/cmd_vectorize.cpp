@@ -232,6 +232,11 @@ const cli::Registrar reg(50, [](CLI::App& app) {
                   "occupancy maps: occupied cells farther than this from free space are a solid area's\n"
                   "inside and dropped [cells]; -1 keeps every occupied cell")
       ->capture_default_str();
+  cmd->add_option("--rim-cells", args->occupancy.rim_cells,
+                  "occupancy maps: free space reaches through this many unknown cells first (the grey rim\n"
+                  "anti-aliasing or resampling leaves along drawn walls) [cells]; 0: none")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("-o,--output", args->out, "output stem or directory")->required();
   cmd->add_option("--formats", args->formats, "comma-separated: gpkg,geojson,json,shp,fgb,dxf,svg,png,pdf")
       ->capture_default_str();

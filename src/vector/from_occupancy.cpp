@@ -8,18 +8,13 @@
 namespace glassmap::vector {
 namespace {
 
-// Occupied cells with no free cell within `rings` 8-neighbour steps become unknown (a multi-source
-// breadth-first search from the free cells, limited to `rings`).
-std::size_t dropSolidInsides(LabelGrid& g, int rings) {
-  if (rings < 0) return 0;
-  const std::size_t n = g.cells();
-  std::vector<int> dist(n, -1);
+// Multi-source breadth-first search over the 8-neighbourhood from the cells marked 0 in `dist`
+// (the rest -1), `rings` steps at most, into the cells `enter` admits.
+template <class Enter>
+void spread(const LabelGrid& g, std::vector<int>& dist, int rings, Enter&& enter) {
   std::deque<std::size_t> queue;
-  for (std::size_t i = 0; i < n; ++i)
-    if (g.codes[i] == kCodeEmpty) {
-      dist[i] = 0;
-      queue.push_back(i);
-    }
+  for (std::size_t i = 0; i < dist.size(); ++i)
+    if (dist[i] == 0) queue.push_back(i);
   while (!queue.empty()) {
     const std::size_t i = queue.front();
     queue.pop_front();
@@ -31,11 +26,28 @@ std::size_t dropSolidInsides(LabelGrid& g, int rings) {
         const int nx = x + dx, ny = y + dy;
         if (nx < 0 || ny < 0 || nx >= g.width || ny >= g.height) continue;
         const std::size_t j = static_cast<std::size_t>(ny) * static_cast<std::size_t>(g.width) + nx;
-        if (dist[j] >= 0) continue;
+        if (dist[j] >= 0 || !enter(j)) continue;
         dist[j] = dist[i] + 1;
         queue.push_back(j);
       }
   }
+}
+
+// Occupied cells with no free cell within `rings` 8-neighbour steps become unknown. Free space
+// reaches first through up to `rim` unknown cells: the grey rim an image editor's anti-aliasing or
+// a resampled map leaves between free space and a wall (read as unknown between the thresholds)
+// would otherwise part every wall from free space, and every wall would be a solid area's inside.
+std::size_t dropSolidInsides(LabelGrid& g, int rings, int rim) {
+  if (rings < 0) return 0;
+  const std::size_t n = g.cells();
+  std::vector<int> dist(n, -1);
+  for (std::size_t i = 0; i < n; ++i)
+    if (g.codes[i] == kCodeEmpty) dist[i] = 0;
+  if (rim > 0) {
+    spread(g, dist, rim, [&](std::size_t j) { return g.codes[j] == kCodeUnknown; });
+    for (int& d : dist) d = d >= 0 ? 0 : -1;  // the rim is free space's edge too
+  }
+  spread(g, dist, rings, [](std::size_t) { return true; });
   std::size_t dropped = 0;
   for (std::size_t i = 0; i < n; ++i)
     if (g.codes[i] == kCodeOccupied && dist[i] < 0) {
@@ -52,7 +64,7 @@ LabelGrid finish(LabelGrid g, const OccupancyOptions& o, OccupancyStats* stats) 
     s.occupied += c == kCodeOccupied;
     s.unknown += c == kCodeUnknown;
   }
-  s.solid_inside = dropSolidInsides(g, o.face_cells);
+  s.solid_inside = dropSolidInsides(g, o.face_cells, o.rim_cells);
   if (stats) *stats = s;
   g.validate();
   return g;

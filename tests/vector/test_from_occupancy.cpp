@@ -57,6 +57,40 @@ TEST(FromOccupancy, SolidAreasGiveTheirFacesOnly) {
   EXPECT_GT(wallLength(hatched.map), 3.0 * (wallLength(r.map) + wallLength(r.extras.clutter)));
 }
 
+// The same room as an image editor's anti-aliasing or a resampled map leaves it: a grey rim,
+// unknown between the thresholds, one or two cells wide between the room and the black around it
+// (and around the pillar). Free space reaches through the rim, so the walls are still the room's
+// faces; without that every wall cell was parted from free space and dropped as a solid area's
+// inside (no wall at all: tools/plan_bench.py maps blurred at 0.8 px gave wall F1 0).
+TEST(FromOccupancy, AGreyRimDoesNotPartTheWallsFromTheRoom) {
+  for (const int width : {1, 2}) {
+    OccupancyGridMap m = solidRoom();
+    const OccupancyGridMap sharp = m;
+    for (int y = 1; y + 1 < m.height; ++y)
+      for (int x = 1; x + 1 < m.width; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * m.width + x;
+        if (sharp.data[i] != 100) continue;
+        // Occupied cells within `width` cells of free space turn grey.
+        bool near_free = false;
+        for (int dy = -width; dy <= width && !near_free; ++dy)
+          for (int dx = -width; dx <= width && !near_free; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            near_free = nx >= 0 && ny >= 0 && nx < m.width && ny < m.height &&
+                        sharp.data[static_cast<std::size_t>(ny) * m.width + nx] == 0;
+          }
+        if (near_free) m.data[i] = 50;
+      }
+    OccupancyStats stats;
+    const VectorizeResult r = vectorize(fromOccupancy(m, {}, &stats));
+    EXPECT_NEAR(wallLength(r.map), 20.0, 1.5) << "rim " << width;
+    EXPECT_LE(r.map.count(Material::Wall), 6u) << "rim " << width;
+    OccupancyOptions no_rim;
+    no_rim.rim_cells = 0;
+    const VectorizeResult parted = vectorize(fromOccupancy(m, no_rim));
+    EXPECT_LT(wallLength(parted.map), 1.0) << "rim " << width;
+  }
+}
+
 TEST(FromOccupancy, TheOriginAndItsYawPlaceTheFloorplan) {
   const double yaw = deg2rad(30.0);
   const OccupancyGridMap m = solidRoom(yaw);

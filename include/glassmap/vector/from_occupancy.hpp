@@ -23,6 +23,10 @@ namespace glassmap::vector {
 struct OccupancyOptions {
   int face_cells = 1;  ///< occupied cells farther than this from every free cell (8-neighbourhood
                        ///< rings) are a solid area's inside and become unknown; < 0 keeps them all
+  /// Free space reaches through this many unknown cells first (8-neighbourhood rings): the grey
+  /// rim anti-aliasing or resampling leaves along a drawn wall is not a gap between it and the
+  /// room. 0: a wall must touch free space within face_cells.
+  int rim_cells = 2;
 };
 
 /// What the conversion did.
