@@ -162,15 +162,14 @@ LaserLog simulateLog(const sim::Scene& scene, std::uint64_t seed) {
   return sim::simulate(scene, so).log;
 }
 
-// The search (opt-in) where it still fires: a glass-free floor with 5 people per 100 m^2 (seed 1,
-// as tools/sensor_sweep.py --people 5 --seed 1 simulates it). The first pass draws glass only on
+// The search (opt-in) on a glass-free floor with 5 people per 100 m^2 (seed 1, as
+// tools/sensor_sweep.py --people 5 --seed 1 simulates it). The first pass draws glass only on
 // people, which the calibration leaves out; the broad lobe's pass then draws what people left. Until
-// stop 49 that was mostly runs across the corridor that return 1-2% near their normal, the lobe
-// fitted to them (peak 0.016) was refused as fainter than glass, and the map kept the default lobe.
-// Since the sparse-pane search refuses such runs (SparsePaneOptions::min_normal_rate), what the broad
-// pass draws is a person seen beside the robot in one visit, and the lobe fitted to it (peak 0.30 +-
-// 0.13, sigma 3.9 deg) is kept: a poorly determined lobe, said as such, on a floor without glass.
-// What the user gets stays right: no glass in the map.
+// stop 49 that was mostly runs across the corridor that return 1-2% near their normal (refused since
+// by SparsePaneOptions::min_normal_rate); until stop 50 a person walking along a line in one visit,
+// and a lobe fitted to it (peak 0.30 +- 0.13). Since stop 51 the sparse-pane search refuses that run
+// too (its beams answer at one place scan after scan: placeCoherence), the broad pass finds no
+// glass to fit, and the map keeps the default lobe. Either way the user gets no glass in the map.
 TEST(FaintPanes, TheSearchDrawsNoGlassOfPeopleOnAGlassFreeFloor) {
   const LaserLog log = simulateLog(peopleScene("no-glass"), 1);
   MapOptions search;
@@ -179,7 +178,10 @@ TEST(FaintPanes, TheSearchDrawsNoGlassOfPeopleOnAGlassFreeFloor) {
   for (const std::string& w : r.calibration.warnings) std::printf("warning: %s\n", w.c_str());
   std::printf("passes %d; lobe peak %.3f +- %.3f, sigma %.2f deg\n", r.passes, r.profile.direct_peak.value,
               r.profile.direct_peak.se, r.profile.direct_sigma_deg.value);
-  EXPECT_GT(r.passes, 1);  // the search mapped again
+  // The search mapped again with the broad lobe (and says what it found).
+  EXPECT_TRUE(std::any_of(r.calibration.warnings.begin(), r.calibration.warnings.end(), [](const std::string& w) {
+    return w.find("a pass with a broad lobe") != std::string::npos;
+  }));
   EXPECT_EQ(r.evidence.countGlass(), 0u);
   EXPECT_TRUE(std::none_of(r.floorplan.map.segments.begin(), r.floorplan.map.segments.end(),
                            [](const MapSegment& s) { return s.material == Material::Glass; }));
@@ -265,7 +267,9 @@ TEST(FaintPanes, PeopleTheClassifiersTookForPanesAreTransients) {
               r.opaque.transient_panes, r.opaque.panes_tested, r.opaque.transient_cells, off, off_was);
   EXPECT_GT(r.opaque.transient_cells, 0u);
   EXPECT_EQ(was.opaque.transient_cells, 0u);
-  EXPECT_GT(off_was, 20u);  // what the test takes away (a glass-free floor: every glass cell is false)
+  // What the test takes away (a glass-free floor: every glass cell is false; 18 cells since stop 51,
+  // when the sparse-pane search began to refuse a person's run among them itself).
+  EXPECT_GT(off_was, 10u);
   EXPECT_EQ(off, 0u);
 }
 
