@@ -9,7 +9,7 @@ the scenes' desk outlines are furniture). Prints a Markdown table and writes CSV
 
   python3 tools/plan_bench.py [--build build] [--out out/plan_bench] [--seeds 1 2] [--big]
                               [--extra "--no-structure"] [--map-extra "--resolution 0.1"]
-                              [--plans office-floor,pentagon]
+                              [--plans office-floor,pentagon] [--blur 0.8]
 """
 import argparse
 import csv
@@ -53,8 +53,19 @@ def main():
     ap.add_argument("--map-extra", default="",
                     help="more options for bench plan-map, e.g. \"--resolution 0.1 --range-sigma 0.03\"")
     ap.add_argument("--tol", default="0.15")
+    ap.add_argument("--blur", type=float, default=0.0,
+                    help="blur each test map with a Gaussian of this many pixels before vectorizing (the grey "
+                         "rims anti-aliasing or resampling leave; needs Pillow: apt-get install python3-pil)")
     args = ap.parse_args()
     exe = os.path.join(args.build, "tools", "glassmap")
+    if args.blur > 0:
+        try:
+            from PIL import Image, ImageFilter
+        except ImportError:
+            sys.exit("--blur needs Pillow (apt-get install python3-pil, then run with /usr/bin/python3)")
+
+        def blur(pgm):
+            Image.open(pgm).filter(ImageFilter.GaussianBlur(args.blur)).save(pgm)
     plans = {k: PLANS[k] for k in args.plans.split(",")}
     if args.big:
         plans.update(BIG)
@@ -71,6 +82,8 @@ def main():
                     stem = os.path.join(args.out, f"{name}-{conv}-{furn}-{seed}")
                     run([exe, "bench", "plan-map", plan, "-o", stem, "--convention", conv, "--seed", str(seed), "-q"]
                         + FURNITURE[furn] + args.map_extra.split())
+                    if args.blur > 0:
+                        blur(stem + ".pgm")
                     run([exe, "vectorize", stem + ".yaml", "-o", stem + "-plan", "-q", "--json", stem + "-vec.json"]
                         + args.extra.split())
                     run([exe, "eval", "segments", "--truth", stem + "-truth.geojson", "--pred", stem + "-plan.gpkg",
