@@ -9,7 +9,7 @@ the scenes' desk outlines are furniture). Prints a Markdown table and writes CSV
 
   python3 tools/plan_bench.py [--build build] [--out out/plan_bench] [--seeds 1 2] [--big]
                               [--extra "--no-structure"] [--map-extra "--resolution 0.1"]
-                              [--plans office-floor,pentagon] [--blur 0.8]
+                              [--plans office-floor,pentagon] [--blur 0.8] [--wall-thickness 0.5]
 """
 import argparse
 import csv
@@ -40,6 +40,17 @@ def run(cmd):
     return r.stdout
 
 
+def thickened(plan, thickness, out):
+    """The plan with every wall of 0.1 m or more redrawn `thickness` thick (glass and thinner lines kept)."""
+    d = json.load(open(plan))
+    for f in d["features"]:
+        p = f.get("properties") or {}
+        if p.get("material") == "wall" and float(p.get("thickness", 0)) >= 0.1:
+            p["thickness"] = thickness
+    json.dump(d, open(out, "w"))
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
@@ -53,6 +64,9 @@ def main():
     ap.add_argument("--map-extra", default="",
                     help="more options for bench plan-map, e.g. \"--resolution 0.1 --range-sigma 0.03\"")
     ap.add_argument("--tol", default="0.15")
+    ap.add_argument("--wall-thickness", type=float, default=0.0,
+                    help="redraw every structural wall of the plans (0.1 m thick or more) this thick [m], e.g. 0.5 "
+                         "for the thick walls of older buildings (0: as the plans have them)")
     ap.add_argument("--blur", type=float, default=0.0,
                     help="blur each test map with a Gaussian of this many pixels before vectorizing (the grey "
                          "rims anti-aliasing or resampling leave; needs Pillow: apt-get install python3-pil)")
@@ -76,6 +90,8 @@ def main():
         if not os.path.exists(plan):
             print(f"skipping {name}: {plan} missing", file=sys.stderr)
             continue
+        if args.wall_thickness > 0:
+            plan = thickened(plan, args.wall_thickness, os.path.join(args.out, f"{name}-plan.geojson"))
         for conv in args.conventions.split(","):
             for furn in args.furniture.split(","):
                 for seed in args.seeds:

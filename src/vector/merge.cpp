@@ -100,9 +100,18 @@ void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material
 }
 
 // Wall faces: two near-parallel wall pieces less than max_wall_thickness apart, overlapping over
-// half the longer one, with no free space between them, become one centre line.
+// half the longer one, with no free space between them, become one centre line; up to
+// max_two_sided_thickness apart when free space also lies outside both (seen from both sides).
 void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Context& ctx) {
   const double cos_max = std::cos(deg2rad(ctx.opt.wall.merge_angle_deg));
+  const double reach = std::max(ctx.opt.max_wall_thickness, ctx.opt.max_two_sided_thickness);
+  const double res = ctx.grid.resolution;
+  // Free space just outside a face (one to three cells past its line, away from the other face).
+  const auto freeOutside = [&](const Vec2& on, const Vec2& away) {
+    for (const double k : {1.5, 2.5})
+      if (ctx.isFree(on + k * res * away)) return true;
+    return false;
+  };
   for (bool changed = true; changed;) {
     changed = false;
     struct Candidate {
@@ -110,27 +119,35 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
       std::size_t i, j;
     };
     std::vector<Candidate> candidates;
-    forNearbyPairs(pieces, ctx.opt.max_wall_thickness, [&](std::size_t i, std::size_t j) {
+    forNearbyPairs(pieces, reach, [&](std::size_t i, std::size_t j) {
       const Piece& p = pieces[i];
       const Piece& q = pieces[j];
       {
         if (std::abs(p.d.dot(q.d)) < cos_max) return;
-        const double sep = std::abs(p.normal().dot(q.c - p.c));
-        if (sep > ctx.opt.max_wall_thickness) return;
+        const double side = p.normal().dot(q.c - p.c);
+        const double sep = std::abs(side);
+        if (sep > reach) return;
+        const bool thick = sep > ctx.opt.max_wall_thickness;
         const auto [u0, u1] = projectedExtent(p, q);
         const double overlap = std::min(u1, p.t1) - std::max(u0, p.t0);
         if (overlap < ctx.opt.face_min_overlap * std::max(p.length(), q.length())) return;
+        // A thick pair as long as furniture is furniture against a wall (its front and the wall's
+        // other face, free outside both); a thick wall runs on.
+        if (thick && overlap < ctx.opt.structure.max_furniture_length) return;
         // Free cells between the faces: a corridor or a gap, not one wall.
         const double lo = std::max(u0, p.t0), hi = std::min(u1, p.t1);
-        int free = 0;
+        int free = 0, outside = 0;
         constexpr int kSamples = 9;
+        const Vec2 away = side > 0 ? Vec2(-p.normal()) : Vec2(p.normal());  // from q's side to p's
         for (int k = 0; k < kSamples; ++k) {
           const double t = lo + (hi - lo) * (k + 0.5) / kSamples;
           const Vec2 on_p = p.c + t * p.d;
           const Vec2 foot = q.c + q.d * q.d.dot(on_p - q.c);
           if (ctx.isFree(0.5 * (on_p + foot))) ++free;
+          if (thick && freeOutside(on_p, away) && freeOutside(foot, -away)) ++outside;
         }
         if (free > ctx.opt.face_max_free_fraction * kSamples) return;
+        if (thick && outside < (1.0 - ctx.opt.face_max_free_fraction) * kSamples) return;
         candidates.push_back({sep, i, j});
       }
     });
@@ -158,7 +175,8 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
       p.d = d;
       p.t0 = t_lo;
       p.t1 = t_hi;
-      p.thickness = std::min(ctx.opt.max_wall_thickness, std::max(p.thickness, sep + cloud.resolution));
+      const double cap = sep > ctx.opt.max_wall_thickness ? reach : ctx.opt.max_wall_thickness;
+      p.thickness = std::min(cap, std::max(p.thickness, sep + cloud.resolution));
       p.faces_merged = true;
       q.alive = false;
       ++ctx.stats.face_merges;

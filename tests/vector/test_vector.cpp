@@ -158,6 +158,46 @@ TEST(Vectorize, TwoFacesOfAWallBecomeOneCentreLine) {
   EXPECT_EQ(r.stats.face_merges, 1u);
 }
 
+// Two wall faces `apart` metres apart (bands of occupied cells), unknown between, free outside.
+LabelGrid twoFaces(double x0, double x1, double apart, double w = 8.0, double h = 5.0) {
+  LabelGrid g = gridWith({seg(x0, 2.0, x1, 2.0, Material::Wall, 0.05), seg(x0, 2.0 + apart, x1, 2.0 + apart,
+                                                                             Material::Wall, 0.05)},
+                         w, h);
+  for (int x = 0; x < g.width; ++x)
+    for (int y = 0; y < g.height; ++y) {
+      const Vec2 c = g.center(x, y);
+      if (c.x() > x0 && c.x() < x1 && c.y() > 2.05 && c.y() < 1.95 + apart)
+        g.codes[static_cast<std::size_t>(y) * g.width + x] = kCodeUnknown;
+    }
+  return g;
+}
+
+TEST(Vectorize, AThickWallSeenFromBothSidesIsOneCentreLine) {
+  // 0.6 m of masonry, 6 m long, rooms on both sides: one wall on its centre line with its thickness.
+  const LabelGrid g = twoFaces(1.0, 7.0, 0.6);
+  const VectorizeResult r = vectorize(g);
+  const auto walls = ofMaterial(r.map, Material::Wall);
+  ASSERT_EQ(walls.size(), 1u);
+  EXPECT_NEAR(0.5 * (walls[0].a.y() + walls[0].b.y()), 2.3, 0.03);
+  EXPECT_NEAR(walls[0].thickness, 0.65, 0.06);
+  // Faces farther apart than a wall is thick stay two.
+  VectorizeOptions o;
+  o.max_two_sided_thickness = o.max_wall_thickness;
+  EXPECT_EQ(ofMaterial(vectorize(g, o).map, Material::Wall).size(), 2u);
+}
+
+TEST(Vectorize, ADeskAgainstAWallIsNotAThickWall) {
+  // 1.5 m long, 0.6 m from its front to the wall's other face, free outside both: as long as
+  // furniture, so two faces (the plain fit keeps such short pieces as walls).
+  VectorizeOptions o;
+  o.structure.enabled = false;
+  const VectorizeResult r = vectorize(twoFaces(2.0, 3.5, 0.6), o);
+  const auto walls = ofMaterial(r.map, Material::Wall);
+  ASSERT_EQ(walls.size(), 2u);
+  for (const MapSegment& w : walls) EXPECT_LT(w.thickness, 0.2);
+  EXPECT_EQ(r.stats.face_merges, 0u);
+}
+
 TEST(Vectorize, LongThickWallIsNotSplit) {
   const LabelGrid g = gridWith({seg(0.3, 2.0, 9.7, 2.0, Material::Wall, 0.3)}, 10.0, 4.0);
   const VectorizeResult r = vectorize(g);

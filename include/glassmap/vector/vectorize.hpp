@@ -86,6 +86,12 @@ struct VectorizeOptions {
   double noise_floor = 0.3;          ///< BIC: floor of the rms cell offset from a line [cells]
   double params_per_segment = 4.0;   ///< BIC: free parameters of one segment (line + extent)
   double max_wall_thickness = 0.35;  ///< two parallel wall faces closer than this become one wall [m]
+  /// Two faces farther apart than max_wall_thickness, up to this, also become one wall when free
+  /// space lies outside both along their overlap and they overlap over at least
+  /// structure.max_furniture_length: a thick wall seen from both sides (old masonry, a wall with a
+  /// shaft in it). A shorter pair is a desk or a cabinet against a wall (its front and the wall's
+  /// other face, solid between, free outside both). max_wall_thickness or less: off [m].
+  double max_two_sided_thickness = 0.8;
   double corner_snap = 0.35;         ///< wall ends this close to another wall's line are joined [m]
   /// A pane's end moves onto a wall's line this far (at least corner_snap), and a wall end meets a
   /// pane's line this far beyond the pane's end: a pane ends in a frame, and its last cells are
