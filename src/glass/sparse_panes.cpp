@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <vector>
 
@@ -165,24 +166,33 @@ struct RunTiles {
 // Per run: beams that pass the run (returned beams that end at least `beyond` past it, beams
 // without an echo within the cap that meet it before any occupied cell of `e`), and beams that
 // return on it (within `band`) or just behind it; and those of them within tol_a of its normal
-// that returned on it or passed it (no echo counts as passing), with their scans.
+// that returned on it or passed it (no echo counts as passing), with their scans; those another
+// run's line folded `margin` before it are marked (NearNormalBeam::folded).
 template <class Beyond>
 void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const CellEvidence& e,
-                    const std::vector<Run>& runs, double band, double tol_a, Beyond&& beyond_at,
+                    const std::vector<Run>& runs, double band, double tol_a, double margin, Beyond&& beyond_at,
                     std::vector<std::uint64_t>& pass, std::vector<std::uint64_t>& hit,
                     std::vector<sparse::NearNormalBeam>& near) {
+  struct Crossing {
+    std::uint32_t run;
+    double at;  // where the beam crossed the run's line, as a share of the beam [-]
+  };
   struct Tally {
     std::vector<std::uint64_t> pass, hit;
     std::vector<sparse::NearNormalBeam> near;
     std::vector<std::uint32_t> seen;  // per run: the last beam that tested it (runs span several tiles)
     std::uint32_t beam = 0;
+    std::vector<std::pair<double, sparse::NearNormalBeam>> pending;  // this beam's, with their `at`
+    std::vector<Crossing> passed;                                    // the runs this beam passed
   };
   tbb::enumerable_thread_specific<Tally> tallies([&] {
     return Tally{std::vector<std::uint64_t>(runs.size(), 0),
                  std::vector<std::uint64_t>(runs.size(), 0),
                  {},
                  std::vector<std::uint32_t>(runs.size(), 0),
-                 0};
+                 0,
+                 {},
+                 {}};
   });
   // Only the runs a beam comes within `band` of can count it: runs by coarse tile, each registered
   // in the tiles its segment widened by `band` reaches; a beam tests the runs of the tiles it
@@ -197,15 +207,20 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const C
         std::fill(t.seen.begin(), t.seen.end(), 0u);
         t.beam = 1;
       }
+      t.pending.clear();
+      t.passed.clear();
       auto test = [&](std::size_t r) {
         const Vec2 n = runs[r].line.normal(), tg = runs[r].line.tangent();
         const double f = n.dot(beam.from) - runs[r].line.rho, g = n.dot(beam.to) - runs[r].line.rho;
         const double incidence = std::abs(angleDiff(direction, runs[r].line.angle));
+        const double at_line = (f > 0) != (g > 0) ? f / (f - g) : 1.0;
         auto nearNormal = [&](bool returned, double along) {
+          if (!returned) t.passed.push_back({static_cast<std::uint32_t>(r), at_line});
           if (incidence <= tol_a)
-            t.near.push_back({static_cast<std::uint32_t>(r), static_cast<std::uint32_t>(index),
-                              static_cast<float>(incidence), returned, scan.timestamp,
-                              static_cast<float>(along - runs[r].s0)});
+            t.pending.push_back(
+                {at_line,
+                 {static_cast<std::uint32_t>(r), static_cast<std::uint32_t>(index), static_cast<float>(incidence),
+                  returned, scan.timestamp, static_cast<float>(along - runs[r].s0)}});
         };
         if (!beam.hit) {
           // No echo within the cap (nothing in range behind the run, or a dropout): the run did not
@@ -250,6 +265,23 @@ void countCrossings(const LaserLog& log, const grid::BeamOptions& beams, const C
           test(r);
         }
       });
+      // A near-normal beam folded by another candidate `margin` before it met a run's line (it
+      // passed that line, and its reading mirrored back across it falls on a surface) never
+      // reached the run: the run's visits are judged without it (a pane seen from the far side of
+      // a glass room through its near pane, which folds most beams, would answer those visits
+      // hardly ever). The tests within scans and at one place keep it: there a passer-by's track,
+      // whose line such a mirror test also passes by chance in a rectangular room, must not hide
+      // the beams that show a person.
+      const double m = margin / std::max(beam.range, 1e-9);
+      for (auto& [at, b] : t.pending) {
+        b.folded = beam.hit && std::any_of(t.passed.begin(), t.passed.end(), [&](const Crossing& c) {
+                     if (c.run == b.run || c.at >= at - m) return false;
+                     const Vec2 n = runs[c.run].line.normal();
+                     return detail::mirrorFallsOnSurface(e.geometry, e.label, beam.to, n,
+                                                         n.dot(beam.to) - runs[c.run].line.rho, deg2rad(1.5));
+                   });
+        t.near.push_back(b);
+      }
     });
   });
   pass.assign(runs.size(), 0);
@@ -438,8 +470,8 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
   std::vector<std::uint64_t> pass, hit;
   std::vector<sparse::NearNormalBeam> near;
   countCrossings(
-      log, beams, e, runs, tol_r, tol_a, [&](double range) { return std::max(o.beyond, 5.0 * sigmaAt(range)); }, pass,
-      hit, near);
+      log, beams, e, runs, tol_r, tol_a, o.glass_margin,
+      [&](double range) { return std::max(o.beyond, 5.0 * sigmaAt(range)); }, pass, hit, near);
   // Each run's near-normal beams, and those it returned.
   std::vector<int> near_met(runs.size(), 0), near_returned(runs.size(), 0);
   for (const sparse::NearNormalBeam& b : near) {
@@ -448,8 +480,11 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
   }
   const std::vector<sparse::ScanCoherence> coherence =
       sparse::scanCoherence(near, runs.size(), deg2rad(o.lobe_bin_deg));
+  std::vector<sparse::NearNormalBeam> own;  // the beams no other candidate folded first
+  std::copy_if(near.begin(), near.end(), std::back_inserter(own),
+               [](const sparse::NearNormalBeam& b) { return !b.folded; });
   const std::vector<sparse::ScanCoherence> by_visit =
-      o.max_visit_gap_s > 0.0 ? sparse::visitCoherence(near, runs.size(), deg2rad(o.lobe_bin_deg), o.max_visit_gap_s)
+      o.max_visit_gap_s > 0.0 ? sparse::visitCoherence(own, runs.size(), deg2rad(o.lobe_bin_deg), o.max_visit_gap_s)
                               : std::vector<sparse::ScanCoherence>(runs.size());
   const std::vector<sparse::ScanCoherence> by_place =
       o.max_place_dt_s > 0.0

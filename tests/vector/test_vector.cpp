@@ -160,9 +160,8 @@ TEST(Vectorize, TwoFacesOfAWallBecomeOneCentreLine) {
 
 // Two wall faces `apart` metres apart (bands of occupied cells), unknown between, free outside.
 LabelGrid twoFaces(double x0, double x1, double apart, double w = 8.0, double h = 5.0) {
-  LabelGrid g = gridWith({seg(x0, 2.0, x1, 2.0, Material::Wall, 0.05), seg(x0, 2.0 + apart, x1, 2.0 + apart,
-                                                                             Material::Wall, 0.05)},
-                         w, h);
+  LabelGrid g = gridWith(
+      {seg(x0, 2.0, x1, 2.0, Material::Wall, 0.05), seg(x0, 2.0 + apart, x1, 2.0 + apart, Material::Wall, 0.05)}, w, h);
   for (int x = 0; x < g.width; ++x)
     for (int y = 0; y < g.height; ++y) {
       const Vec2 c = g.center(x, y);

@@ -32,6 +32,7 @@ struct NearNormalBeam {
   bool returned = false;   ///< true: returned on the run; false: passed it
   double time = 0.0;       ///< its scan's timestamp [s] (visitCoherence, placeCoherence)
   float along = 0.0f;      ///< where it met the run, along the run's line [m] (placeCoherence)
+  bool folded = false;     ///< another candidate's line folded it on its way (left out of visitCoherence)
 };
 
 /// How the outcomes of one run's near-normal beams hang together within scans.

@@ -20,7 +20,9 @@
 ///    beam of a scan while there and none before or after, so the near-normal beams of one scan
 ///    return together far more often than their rates multiply (scan_coherence.hpp: the score
 ///    test for within-scan correlation, one-sided p below max_transient_p, and a correlation of at
-///    least min_transient_correlation);
+///    least min_transient_correlation); the test by the robot's visits leaves out the near-normal
+///    beams another candidate folded on their way (they passed its line and their readings, mirrored
+///    back across it, fall on a surface: a glass room's far pane seen through its near one);
 ///  - its returns did not come through another pane: beyond a pane, a mirror image it folded (the
 ///    image of a wall seen via the pane at the wall's normal has the same signature) and a wall seen
 ///    through it at grazing incidence (shifted sideways by the pane, it lands in front of itself)

@@ -92,7 +92,7 @@ struct VectorizeOptions {
   /// shaft in it). A shorter pair is a desk or a cabinet against a wall (its front and the wall's
   /// other face, solid between, free outside both). max_wall_thickness or less: off [m].
   double max_two_sided_thickness = 0.8;
-  double corner_snap = 0.35;         ///< wall ends this close to another wall's line are joined [m]
+  double corner_snap = 0.35;  ///< wall ends this close to another wall's line are joined [m]
   /// A pane's end moves onto a wall's line this far (at least corner_snap), and a wall end meets a
   /// pane's line this far beyond the pane's end: a pane ends in a frame, and its last cells are
   /// the ones a pane's evidence and the MRF lose first (seen at the widest angles, next to the
