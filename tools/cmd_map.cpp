@@ -141,12 +141,12 @@ void run(MapArgs& args) {
     if (options.sparse_panes)
       std::printf(
           "%-22s %zu found, %.1f m (%zu runs of %zu weak returns tested; rejected: %zu chance, %zu opaque, "
-          "%zu too faint, %zu transient, %zu through another pane)\n",
+          "%zu too faint, %zu no lobe, %zu transient, %zu through another pane, %zu along a stronger one)\n",
           "sparse panes", result.sparse.panes, result.sparse.metres, result.sparse.runs_tested,
           result.sparse.weak_returns, result.sparse.rejected_chance, result.sparse.rejected_opaque,
-          result.sparse.rejected_faint,
+          result.sparse.rejected_faint, result.sparse.rejected_unspecific,
           result.sparse.rejected_transient + result.sparse.rejected_one_visit + result.sparse.rejected_place,
-          result.sparse.rejected_through);
+          result.sparse.rejected_through, result.sparse.rejected_duplicate);
     if (options.opaque_glass)
       std::printf(
           "%-22s %zu of %zu glass cells relabelled (the beams crossing them stop just behind, or %zu panes of %zu "

@@ -340,15 +340,28 @@ bool mirroredBy(const PaneLine& pane, const WeakReturn& r, const grid::GridGeome
 }
 
 // True when most of the run's returns crossed another pane of `panes` (labels with the candidate
-// runs drawn in; a glass cell with at least min_pane_cells glass cells in its 5 x 5 block) at least
+// runs drawn in; a glass cell with at least min_pane_cells glass cells in its 5 x 5 block, more than
+// tol_r + glass_margin off the run's line and not its mirror image of a surface) at least
 // glass_margin before the return, or were folded by another run of `others` (mirroredBy). Beyond
 // a pane, mirror images (a wall seen via the pane at the wall's normal) and walls seen through it
 // at grazing incidence (shifted sideways by up to the pane's thickness, they land in front of
 // themselves) have the signature of a faint pane.
 bool seenThroughAnotherPane(const std::vector<WeakReturn>& w, const Run& run, const std::vector<PaneLine>& others,
-                            const CellEvidence& panes, const SparsePaneOptions& o) {
+                            const CellEvidence& panes, double tol_r, const SparsePaneOptions& o) {
   const grid::GridGeometry& g = panes.geometry;
-  auto isPane = [&](int x, int y) { return sparse::glassInBlock(g, panes.label, x, y, 2) >= o.min_pane_cells; };
+  // Not another pane: glass within the run's own band (tol_r) and glass_margin of its line (a
+  // second candidate along the same pane, a few degrees off), and glass that mirrors a surface
+  // across the run's line: the run's phantom, seen by beams from across the run (through the
+  // room and back off it).
+  const Vec2 n = run.line.normal();
+  auto ownBandOrPhantom = [&](int x, int y) {
+    const Vec2 c = g.center(x, y);
+    const double d = n.dot(c) - run.line.rho;
+    return std::abs(d) < tol_r + o.glass_margin || detail::mirrorFallsOnSurface(g, panes.label, c, n, d, deg2rad(1.5));
+  };
+  auto isPane = [&](int x, int y) {
+    return sparse::glassInBlock(g, panes.label, x, y, 2) >= o.min_pane_cells && !ownBandOrPhantom(x, y);
+  };
   std::size_t via = 0;
   for (std::size_t i : run.returns) {
     const double range = (w[i].at - w[i].from).norm();
@@ -439,14 +452,16 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       idx = std::move(more);
     }
     for (std::size_t i : idx) used[i] = true;
-    // A pane cell returns only near its normal; a cell that returns to beams of every direction is
-    // a corner, a post or an edge, and a few of those line up with any direction by chance.
-    idx.erase(std::remove_if(idx.begin(), idx.end(),
-                             [&](std::size_t i) {
-                               return !weak_returns.specific(weak[i].cell, line.angle, deg2rad(o.specific_tol_deg),
-                                                             o.min_specific);
-                             }),
-              idx.end());
+    // Optionally (off by default), each cell by the share of its returns near the line's normal:
+    // a cell that returns to beams of every direction is a corner, a post or an edge. A share is
+    // no rate, though (SparsePaneOptions::min_specific); the lobe test per run below replaces it.
+    if (o.min_specific > 0.0)
+      idx.erase(std::remove_if(idx.begin(), idx.end(),
+                               [&](std::size_t i) {
+                                 return !weak_returns.specific(weak[i].cell, line.angle, deg2rad(o.specific_tol_deg),
+                                                               o.min_specific);
+                               }),
+                idx.end());
     const double p = weak_returns.background(line.angle, pad);
     for (Run& run : splitRuns(weak, idx, line, g.resolution, o.max_gap, o.gap_factor)) {
       if (run.returns.size() < static_cast<std::size_t>(o.min_returns) || run.s1 - run.s0 < o.min_length) continue;
@@ -456,8 +471,13 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       std::sort(cells.begin(), cells.end());
       const int k = static_cast<int>(std::unique(cells.begin(), cells.end()) - cells.begin());
       const int n = static_cast<int>(std::ceil(((run.s1 - run.s0) / g.resolution + 1.0) * band_cells));
-      const double background = std::max(p, localBackground(weak_returns, e, run, o.background_margin, tol_r, tol_a));
-      run.log10_nfa = log10_tests + log10BinomialTail(k, n, background);
+      // The tail grows with the background, so a run chance explains at the floor-wide density p
+      // needs no local one.
+      run.log10_nfa = log10_tests + log10BinomialTail(k, n, p);
+      if (run.log10_nfa < o.log10_max_nfa) {
+        const double local = localBackground(weak_returns, e, run, o.background_margin, tol_r, tol_a);
+        if (local > p) run.log10_nfa = log10_tests + log10BinomialTail(k, n, local);
+      }
       if (run.log10_nfa >= o.log10_max_nfa) {
         ++stats.rejected_chance;
         continue;
@@ -503,6 +523,22 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
         log10BinomialCdf(near_returned[r], near_met[r], o.min_normal_rate) < std::log10(o.max_faint_p)) {
       ++stats.rejected_faint;
       continue;
+    }
+    // Not shown to answer near its normal more often than at other angles, or shown to answer
+    // there less often than min_lobe_contrast times that: no lobe, so no pane.
+    const std::uint64_t met = pass[r] + hit[r];
+    const int near_hit = near_returned[r];
+    if (o.min_lobe_contrast > 0.0 && met > static_cast<std::uint64_t>(near_met[r])) {
+      const double other_rate = static_cast<double>(hit[r] - std::min<std::uint64_t>(hit[r], near_hit)) /
+                                static_cast<double>(met - static_cast<std::uint64_t>(near_met[r]));
+      const double log10_p = std::log10(o.max_faint_p);
+      const bool above = other_rate <= 0.0 || log10BinomialTail(near_hit, near_met[r], other_rate) < log10_p;
+      const double contrast_rate = std::min(1.0, o.min_lobe_contrast * other_rate);
+      const bool below = contrast_rate > 0.0 && log10BinomialCdf(near_hit, near_met[r], contrast_rate) < log10_p;
+      if (!above || below) {
+        ++stats.rejected_unspecific;
+        continue;
+      }
     }
     runs[r].transmission = static_cast<double>(pass[r]) / total;
     runs[r].by_scan = coherence[r];
@@ -559,10 +595,40 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     });
   std::vector<PaneLine> lines;
   for (const Run& run : seen_through) lines.push_back(openExtent(run, g, panes.label));
+  std::vector<std::size_t> accepted;
   for (std::size_t r = 0; r < seen_through.size(); ++r) {
-    const Run& run = seen_through[r];
-    if (seenThroughAnotherPane(weak, run, lines, panes, o)) {
+    if (seenThroughAnotherPane(weak, seen_through[r], lines, panes, tol_r, o))
       ++stats.rejected_through;
+    else
+      accepted.push_back(r);
+  }
+  // One pane, one run: a run that crosses a pane a few degrees off its line gathers, over a metre
+  // or more when the range noise is large, the returns of beams that met the pane that far off its
+  // normal (within a broad lobe they come back). Most of its returns then lie within 2 tol_r of
+  // the pane's segment: it is dropped for the run with more returns.
+  std::vector<std::size_t> by_strength = accepted;
+  std::stable_sort(by_strength.begin(), by_strength.end(), [&](std::size_t a, std::size_t b) {
+    return seen_through[a].returns.size() > seen_through[b].returns.size();
+  });
+  std::vector<std::uint8_t> duplicate(seen_through.size(), 0);
+  for (std::size_t k = 0; k < by_strength.size(); ++k) {
+    const Run& run = seen_through[by_strength[k]];
+    for (std::size_t j = 0; j < k && !duplicate[by_strength[k]]; ++j) {
+      if (duplicate[by_strength[j]]) continue;
+      const Run& pane = seen_through[by_strength[j]];
+      const Vec2 n = pane.line.normal(), t = pane.line.tangent();
+      const auto on_pane = std::count_if(run.returns.begin(), run.returns.end(), [&](std::size_t i) {
+        const double along = t.dot(weak[i].at);
+        return std::abs(n.dot(weak[i].at) - pane.line.rho) <= 2.0 * tol_r && along >= pane.s0 - tol_r &&
+               along <= pane.s1 + tol_r;
+      });
+      duplicate[by_strength[k]] = 2 * static_cast<std::size_t>(on_pane) >= run.returns.size();
+    }
+  }
+  for (std::size_t r : accepted) {
+    const Run& run = seen_through[r];
+    if (duplicate[r]) {
+      ++stats.rejected_duplicate;
       continue;
     }
     ++stats.panes;

@@ -88,6 +88,29 @@ Simulated simulateWith(const char* laser, const char* scene_name, std::uint64_t 
   return s;
 }
 
+// maps/glass-room (the room turned 25 deg in its hall) with the room, its table and the robot's
+// loop around it turned `degrees` more about the room's centre (7, 6): tools/sensor_sweep.py's
+// glass-room@ANGLE for ANGLE = 25 + degrees. The hall's walls and desks stay.
+Simulated simulateTurnedGlassRoom(const char* laser, double degrees, std::uint64_t seed) {
+  Simulated s;
+  s.scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / "glass-room" / "scene.yaml");
+  sim::applySensorProfile(s.scene, sim::sensorProfile(laser));
+  s.scene.laser.rate = 10.0;
+  const Vec2 centre(7.0, 6.0);
+  const Eigen::Rotation2Dd turn(deg2rad(degrees));
+  auto turned = [&](const Vec2& p) -> Vec2 { return centre + turn * (p - centre); };
+  for (MapSegment& seg : s.scene.map.segments)
+    if ((seg.a - centre).norm() < 3.5 && (seg.b - centre).norm() < 3.5) {
+      seg.a = turned(seg.a);
+      seg.b = turned(seg.b);
+    }
+  for (Vec2& w : s.scene.trajectory.waypoints) w = turned(w);
+  sim::SimOptions so;
+  so.seed = seed;
+  s.log = sim::simulate(s.scene, so).log;
+  return s;
+}
+
 struct Case {
   const char* laser;
   const char* scene;
@@ -145,6 +168,39 @@ TEST(FaintPanes, APaneIsJudgedByTheBeamsThatReachedItFirst) {
   EXPECT_LE(static_cast<double>(n.off_glass), 0.1 * static_cast<double>(n.on));
 }
 
+// random:112 (peak 0.41, lobe sigma 3.1 deg, 7% at any angle, 90% of the other beams reflected)
+// around the glass room, seed 7. Its panes answer the many beams that meet them off the normal
+// more often in all than the few near it, so the sparse-pane search's old per-cell test (60% of a
+// cell's returns within 10 deg of the line's normal) kept 15-17 of a pane's 90 cells and no pane
+// stood out from chance; the classifiers found nothing and the calibration fitted a 20 deg lobe
+// (cell F1@2 0.0 in tools/sensor_sweep.py --seed 7, also with the true profile). The search now
+// compares rates per run: near the normal a pane answers 0.22-0.25 of its beams, at other angles
+// 0.05. And the reflections of the box in the room, seen across it in the far pane, land as
+// phantom glass on the near side, where the robot drives: the test "seen through another pane"
+// no longer counts glass that is the run's own mirror image.
+TEST(FaintPanes, APaneThatAnswersEveryAngleNowAndThenIsFoundByItsLobe) {
+  const Simulated s = simulateWith("random:112", "glass-room", 7);
+  const MapResult r = mapLog(s.log);
+  const PaneCells n = countPaneCells(s.scene.map, r.evidence);
+  std::printf("sparse panes: %zu (%.1f m); rejected %zu without a lobe, %zu through another pane\n", r.sparse.panes,
+              r.sparse.metres, r.sparse.rejected_unspecific, r.sparse.rejected_through);
+  EXPECT_GE(n.on_glass, 0.9 * static_cast<double>(n.on));
+  EXPECT_LE(static_cast<double>(n.off_glass), 0.1 * static_cast<double>(n.on));
+}
+
+// The same laser around the room turned 37 deg (glass-room@37 in the sweep), seed 7: beside the
+// lobe, the pane at the door gap needs the second step. The box's phantoms seen across the room in
+// it cover the ground the robot drives on before it, and the pane's own returns crossed them.
+TEST(FaintPanes, APanesOwnPhantomsInFrontOfItAreNoPaneItIsSeenThrough) {
+  const Simulated s = simulateTurnedGlassRoom("random:112", 12.0, 7);
+  const MapResult r = mapLog(s.log);
+  const PaneCells n = countPaneCells(s.scene.map, r.evidence);
+  std::printf("sparse panes: %zu (%.1f m); rejected %zu without a lobe, %zu through another pane\n", r.sparse.panes,
+              r.sparse.metres, r.sparse.rejected_unspecific, r.sparse.rejected_through);
+  EXPECT_GE(n.on_glass, 0.9 * static_cast<double>(n.on));
+  EXPECT_LE(static_cast<double>(n.off_glass), 0.1 * static_cast<double>(n.on));
+}
+
 // random:30 (peak 0.50, lobe sigma 2.6 deg, 9% at any angle, 2.2 cm noise + 0.9% of the range)
 // around the glass room: its panes return near their normal only, from a few of the robot's
 // poses, so the direct classifier finds one pane cell in three or four; the others have the
@@ -154,13 +210,17 @@ TEST(FaintPanes, APaneIsJudgedByTheBeamsThatReachedItFirst) {
 // unseen glass at its evidence against it (CellEvidence::neutral_cost).
 TEST(FaintPanes, TheMrfKeepsAPaneTheClassifierFoundInOneCellOfSeveral) {
   const Simulated s = simulateWith("random:30", "glass-room");
-  const MapResult r = mapLog(s.log);
-  MapOptions charged;
+  // The MRF alone: since stop 53 the sparse-pane search finds these panes itself after it.
+  MapOptions mrf_only;
+  mrf_only.sparse_panes = false;
+  const MapResult r = mapLog(s.log, mrf_only);
+  MapOptions charged = mrf_only;
   charged.mrf.candidates_neutral = false;
   const MapResult was_map = mapLog(s.log, charged);
   const PaneCells n = countPaneCells(s.scene.map, r.evidence);
   const PaneCells was = countPaneCells(s.scene.map, was_map.evidence);
-  // Measured: 131 of 216 pane cells with a glass cell within 2 cells, 81 with the gaps charged.
+  // Measured: 216 of 216 pane cells with a glass cell within 2 cells, 140 with the gaps charged
+  // (stop 44, with the search: 131 and 81).
   EXPECT_GE(n.on_glass, 0.5 * static_cast<double>(n.on));
   EXPECT_GE(n.on_glass, was.on_glass + n.on / 10);
   EXPECT_LE(static_cast<double>(n.off_glass), 0.1 * static_cast<double>(n.on));
@@ -222,8 +282,14 @@ TEST(FaintPanes, TheSearchDrawsNoGlassOfPeopleOnAGlassFreeFloor) {
 TEST(FaintPanes, PeopleThatAnsweredOneOfTheRobotsVisitsAreNoPanes) {
   const sim::Scene scene = peopleScene("glass-room", "rplidar-a2");
   const LaserLog log = simulateLog(scene, 2);
-  const MapResult r = mapLog(log);
-  MapOptions scans_only;
+  // The search as it was when this test was written (stop 50: a cell's share of returns near the
+  // normal, no lobe test per run). Since stop 53 the people's runs along the panes do not form: the
+  // pane's own runs take their returns.
+  MapOptions then;
+  then.sparse.min_specific = 0.6;
+  then.sparse.min_lobe_contrast = 0.0;
+  const MapResult r = mapLog(log, then);
+  MapOptions scans_only = then;
   scans_only.sparse.max_visit_gap_s = 0.0;
   scans_only.opaque.max_transient_p = 0.0;  // nor the opaque step's test of time on the classifiers' panes
   const MapResult was = mapLog(log, scans_only);
