@@ -380,6 +380,33 @@ bool seenThroughAnotherPane(const std::vector<WeakReturn>& w, const Run& run, co
   return static_cast<double>(via) >= o.max_via * static_cast<double>(run.returns.size());
 }
 
+// True when a run's near-normal beams (near_hit of near_met returned) are not shown to return
+// more often than its other beams (other_hit of other_met), or are shown to return less often
+// than `contrast` times their rate (one-sided binomial p below max_p): no lobe, so no pane.
+bool lacksLobe(int near_hit, int near_met, std::uint64_t other_hit, std::uint64_t other_met, double contrast,
+               double max_p) {
+  if (other_met == 0) return false;
+  const double other_rate = static_cast<double>(other_hit) / static_cast<double>(other_met);
+  const double log10_p = std::log10(max_p);
+  const bool above = other_rate <= 0.0 || log10BinomialTail(near_hit, near_met, other_rate) < log10_p;
+  const double contrast_rate = std::min(1.0, contrast * other_rate);
+  const bool below = contrast_rate > 0.0 && log10BinomialCdf(near_hit, near_met, contrast_rate) < log10_p;
+  return !above || below;
+}
+
+// True when half of `run`'s returns or more lie within `reach` of `pane`'s segment (along it,
+// within half a reach of its ends): the same pane, seen by beams that met it further off its
+// normal.
+bool liesAlong(const Run& run, const Run& pane, const std::vector<WeakReturn>& w, double reach) {
+  const Vec2 n = pane.line.normal(), t = pane.line.tangent();
+  const auto on_pane = std::count_if(run.returns.begin(), run.returns.end(), [&](std::size_t i) {
+    const double along = t.dot(w[i].at);
+    return std::abs(n.dot(w[i].at) - pane.line.rho) <= reach && along >= pane.s0 - 0.5 * reach &&
+           along <= pane.s1 + 0.5 * reach;
+  });
+  return 2 * static_cast<std::size_t>(on_pane) >= run.returns.size();
+}
+
 // The share of observed cells around a run (within `margin`, off its band of half-width tol_r)
 // that hold a weak return compatible with its line: weak returns gather near surfaces, well above
 // their average over the floor.
@@ -524,21 +551,14 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
       ++stats.rejected_faint;
       continue;
     }
-    // Not shown to answer near its normal more often than at other angles, or shown to answer
-    // there less often than min_lobe_contrast times that: no lobe, so no pane.
+    // No more often near the normal than at other angles: no lobe, so no pane.
     const std::uint64_t met = pass[r] + hit[r];
-    const int near_hit = near_returned[r];
-    if (o.min_lobe_contrast > 0.0 && met > static_cast<std::uint64_t>(near_met[r])) {
-      const double other_rate = static_cast<double>(hit[r] - std::min<std::uint64_t>(hit[r], near_hit)) /
-                                static_cast<double>(met - static_cast<std::uint64_t>(near_met[r]));
-      const double log10_p = std::log10(o.max_faint_p);
-      const bool above = other_rate <= 0.0 || log10BinomialTail(near_hit, near_met[r], other_rate) < log10_p;
-      const double contrast_rate = std::min(1.0, o.min_lobe_contrast * other_rate);
-      const bool below = contrast_rate > 0.0 && log10BinomialCdf(near_hit, near_met[r], contrast_rate) < log10_p;
-      if (!above || below) {
-        ++stats.rejected_unspecific;
-        continue;
-      }
+    const auto near_hits = static_cast<std::uint64_t>(near_returned[r]);
+    if (o.min_lobe_contrast > 0.0 &&
+        lacksLobe(near_returned[r], near_met[r], hit[r] - std::min(hit[r], near_hits),
+                  met - std::min(met, static_cast<std::uint64_t>(near_met[r])), o.min_lobe_contrast, o.max_faint_p)) {
+      ++stats.rejected_unspecific;
+      continue;
     }
     runs[r].transmission = static_cast<double>(pass[r]) / total;
     runs[r].by_scan = coherence[r];
@@ -611,19 +631,11 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
     return seen_through[a].returns.size() > seen_through[b].returns.size();
   });
   std::vector<std::uint8_t> duplicate(seen_through.size(), 0);
-  for (std::size_t k = 0; k < by_strength.size(); ++k) {
-    const Run& run = seen_through[by_strength[k]];
-    for (std::size_t j = 0; j < k && !duplicate[by_strength[k]]; ++j) {
-      if (duplicate[by_strength[j]]) continue;
-      const Run& pane = seen_through[by_strength[j]];
-      const Vec2 n = pane.line.normal(), t = pane.line.tangent();
-      const auto on_pane = std::count_if(run.returns.begin(), run.returns.end(), [&](std::size_t i) {
-        const double along = t.dot(weak[i].at);
-        return std::abs(n.dot(weak[i].at) - pane.line.rho) <= 2.0 * tol_r && along >= pane.s0 - tol_r &&
-               along <= pane.s1 + tol_r;
-      });
-      duplicate[by_strength[k]] = 2 * static_cast<std::size_t>(on_pane) >= run.returns.size();
-    }
+  std::vector<const Run*> kept;
+  for (std::size_t r : by_strength) {
+    duplicate[r] = std::any_of(kept.begin(), kept.end(),
+                               [&](const Run* pane) { return liesAlong(seen_through[r], *pane, weak, 2.0 * tol_r); });
+    if (!duplicate[r]) kept.push_back(&seen_through[r]);
   }
   for (std::size_t r : accepted) {
     const Run& run = seen_through[r];
