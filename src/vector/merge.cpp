@@ -106,10 +106,12 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
   const double cos_max = std::cos(deg2rad(ctx.opt.wall.merge_angle_deg));
   const double reach = std::max(ctx.opt.max_wall_thickness, ctx.opt.max_two_sided_thickness);
   const double res = ctx.grid.resolution;
-  // Free space just outside a face (one to three cells past its line, away from the other face).
+  // Free space outside a face: from one and a half cells past its line, away from the other face,
+  // out to face_outside_reach (furniture standing against the face hides the room behind it).
+  const double outside_reach = std::max(2.5 * res, ctx.opt.face_outside_reach);
   const auto freeOutside = [&](const Vec2& on, const Vec2& away) {
-    for (const double k : {1.5, 2.5})
-      if (ctx.isFree(on + k * res * away)) return true;
+    for (double k = 1.5 * res; k <= outside_reach; k += res)
+      if (ctx.isFree(on + k * away)) return true;
     return false;
   };
   for (bool changed = true; changed;) {
@@ -147,7 +149,9 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
           if (thick && freeOutside(on_p, away) && freeOutside(foot, -away)) ++outside;
         }
         if (free > ctx.opt.face_max_free_fraction * kSamples) return;
-        if (thick && outside < (1.0 - ctx.opt.face_max_free_fraction) * kSamples) return;
+        // At most that share of the samples without free space outside (counted as such, so that
+        // 6 of 9 is two thirds exactly, not a rounding below it).
+        if (thick && kSamples - outside > ctx.opt.face_max_free_fraction * kSamples) return;
         candidates.push_back({sep, i, j});
       }
     });
@@ -160,15 +164,22 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
       touched[c.i] = touched[c.j] = true;
       Piece& p = pieces[c.i];
       Piece& q = pieces[c.j];
+      // A face within the band of a wall whose faces merged already (a later pass: the lines
+      // joined one face's pieces that the merge left) is part of it: the wall keeps its centre
+      // line and thickness and reaches over both.
+      const Piece* wall = p.faces_merged != q.faces_merged ? (p.faces_merged ? &p : &q) : nullptr;
+      const Piece* face = wall == &p ? &q : &p;
+      const bool within = wall && std::abs(wall->normal().dot(face->c - wall->c)) <= 0.5 * (wall->thickness + res);
       Vec2 dq = q.d;
       if (dq.dot(p.d) < 0) dq = -dq;
-      const Vec2 d = (p.length() * p.d + q.length() * dq).normalized();
+      const Vec2 d = within ? wall->d : Vec2((p.length() * p.d + q.length() * dq).normalized());
       const Vec2 n(-d.y(), d.x());
       // Midline between the two face lines, equally weighted whatever their cell counts.
-      const double off = 0.5 * (n.dot(p.c) + n.dot(q.c));
+      const double off = within ? n.dot(wall->c) : 0.5 * (n.dot(p.c) + n.dot(q.c));
       const double t_lo = std::min({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
       const double t_hi = std::max({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
       const double sep = std::abs(n.dot(q.c - p.c));
+      const double wall_thickness = within ? wall->thickness : 0.0;
       p.ids.insert(p.ids.end(), q.ids.begin(), q.ids.end());
       p.moments += q.moments;
       p.c = off * n;
@@ -176,7 +187,7 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
       p.t0 = t_lo;
       p.t1 = t_hi;
       const double cap = sep > ctx.opt.max_wall_thickness ? reach : ctx.opt.max_wall_thickness;
-      p.thickness = std::min(cap, std::max(p.thickness, sep + cloud.resolution));
+      p.thickness = within ? wall_thickness : std::min(cap, std::max(p.thickness, sep + cloud.resolution));
       p.faces_merged = true;
       q.alive = false;
       ++ctx.stats.face_merges;

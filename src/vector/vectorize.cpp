@@ -133,6 +133,10 @@ VectorizeResult vectorize(const LabelGrid& grid, const VectorizeOptions& given) 
     if (options.regularize) detail::snapToDirections(glass, st.directions, ctx);
     walls = std::move(st.walls);
     clutter = std::move(st.clutter);
+    // The lines join a thick wall's faces that doors, furniture and junctions broke into pieces too
+    // short to merge before: the faces of the joined lines merge now.
+    mergeFaces(walls, wall_cloud, ctx);
+    compact(walls);
     for (const double d : st.directions) stats.directions_deg.push_back(rad2deg(d));
     stats.dominant_axis_deg = st.directions.empty() ? 0.0 : rad2deg(std::fmod(st.directions.front(), 0.5 * kPi));
     stats.lines = st.lines;

@@ -185,6 +185,27 @@ TEST(Vectorize, AThickWallSeenFromBothSidesIsOneCentreLine) {
   EXPECT_EQ(ofMaterial(vectorize(g, o).map, Material::Wall).size(), 2u);
 }
 
+TEST(Vectorize, AThickWallSeenInPiecesIsOneCentreLine) {
+  // 0.6 m of masonry, 10 m long, rooms on both sides; its lower face was seen only in two pieces
+  // (3 and 4.5 m, the 2.5 m between them never seen, as a laser SLAM leaves a face it glimpsed).
+  // Each piece is shorter than half the upper face, so neither merges with it, and too far from
+  // the other for the plain fit to join them. The line the structure step joins across the unseen
+  // gap does merge: one wall on the centre line, with its thickness, as long as the wall.
+  LabelGrid g = twoFaces(1.0, 11.0, 0.6, 12.0, 6.0);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const Vec2 c = g.center(x, y);
+      if (c.x() > 4.0 && c.x() < 6.5 && c.y() > 1.5 && c.y() < 2.1)
+        g.codes[static_cast<std::size_t>(y) * g.width + x] = kCodeUnknown;
+    }
+  const VectorizeResult r = vectorize(g);
+  const auto walls = ofMaterial(r.map, Material::Wall);
+  ASSERT_EQ(walls.size(), 1u);
+  EXPECT_NEAR(0.5 * (walls[0].a.y() + walls[0].b.y()), 2.3, 0.03);
+  EXPECT_NEAR(walls[0].thickness, 0.65, 0.06);
+  EXPECT_NEAR(walls[0].length(), 10.0, 0.3);
+}
+
 TEST(Vectorize, ADeskAgainstAWallIsNotAThickWall) {
   // 1.5 m long, 0.6 m from its front to the wall's other face, free outside both: as long as
   // furniture, so two faces (the plain fit keeps such short pieces as walls).

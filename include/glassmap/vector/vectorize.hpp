@@ -131,6 +131,10 @@ struct VectorizeOptions {
       ///< longer one (a short parallel piece is furniture against the wall, not its other face) [-] ...
   double face_max_free_fraction = 1.0 / 3.0;  ///< ... and at most this share of the band between
                                               ///< them is free space [-]
+  /// Two faces farther apart than max_wall_thickness merge only with free space outside both (at
+  /// all but face_max_free_fraction of the samples along them), looked for this far out: furniture
+  /// against a thick wall hides the room behind it [m].
+  double face_outside_reach = 0.7;
   double side_crowding_cells = 1.0;           ///< glass: look this far past the pane's band (voting: twice
                                               ///< glass.max_distance; else one cell) for more glass [cells] ...
   double max_side_crowding = 0.5;             ///< ... a piece with more of its cells crowded is a strip cut out
