@@ -254,9 +254,10 @@ const cli::Registrar reg(50, [](CLI::App& app) {
                   "merge parallel wall faces closer than this into one centre line [m]")
       ->capture_default_str();
   cmd->add_option("--max-two-sided-thickness", args->options.max_two_sided_thickness,
-                  "also merge faces up to this far apart when free space lies outside both and they overlap over "
-                  "3 m or more (a thick wall seen from both sides; a shorter pair is furniture against a wall) [m] "
-                  "(at most --max-wall-thickness: off)")
+                  "also merge faces up to this far apart when free space lies outside both (within 0.7 m: "
+                  "furniture may stand against a face) and they overlap over 3 m or more, also once the structure "
+                  "step has joined a face's pieces (a thick wall seen from both sides; a shorter pair is furniture "
+                  "against a wall) [m] (at most --max-wall-thickness: off)")
       ->capture_default_str();
   cmd->add_option("--noise-floor", args->options.noise_floor,
                   "BIC: floor of the rms cell offset from a line [cells]; higher merges more")
