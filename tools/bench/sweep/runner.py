@@ -192,7 +192,7 @@ class Runner:
 def config(quick: bool, seeds: int | None):
     if quick:
         c = dict(seeds=1, loc_seeds=1, map_seeds=1, loc_scenes=["paper-corridor"], map_scenes=["paper-corridor"],
-                 loc_duration=20.0, map_duration=40.0, models=list(LOC_MODELS),
+                 loc_duration=12.0, map_duration=25.0, models=list(LOC_MODELS),
                  beams=[5, 60], particles=[100, 500], max_cost=None,
                  methods=MAP_METHODS, resolutions=[0.1], stab_resolution=0.1,
                  stab_particles=300, stab_beams=15, fig8_seeds=1, fig8_duration=30.0,
