@@ -237,6 +237,11 @@ const cli::Registrar reg(50, [](CLI::App& app) {
                   "anti-aliasing or resampling leaves along drawn walls) [cells]; 0: none")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  cmd->add_flag(
+      "--no-ridges", [args](std::int64_t) { args->occupancy.ridges = false; },
+      "occupancy maps: thresholds only (by default a cell read as unknown that is darker than the cells\n"
+      "either side of it across a row, column or diagonal, and darker than a quarter of the way from\n"
+      "free_thresh to occupied_thresh, is occupied: a thin wall a blur or a resampling made grey)");
   cmd->add_option("-o,--output", args->out, "output stem or directory")->required();
   cmd->add_option("--formats", args->formats, "comma-separated: gpkg,geojson,json,shp,fgb,dxf,svg,png,pdf")
       ->capture_default_str();

@@ -271,6 +271,9 @@ OccupancyGridMap readRosMap(const fs::path& yaml_path) {
   map.width = img.width;
   map.height = img.height;
   map.data.assign(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height), -1);
+  if (mode != MapMode::Raw) map.occupancy.assign(map.data.size(), 0.0f);
+  map.occupied_thresh = occupied_thresh;
+  map.free_thresh = free_thresh;
   for (int r = 0; r < img.height; ++r) {
     for (int c = 0; c < img.width; ++c) {
       const std::size_t src = static_cast<std::size_t>(r) * img.width + c;
@@ -280,6 +283,7 @@ OccupancyGridMap readRosMap(const fs::path& yaml_path) {
         value = static_cast<std::int8_t>(img.raw[src]);
       } else {
         const double occ = negate ? img.shade[src] : 1.0 - img.shade[src];
+        map.occupancy[dst] = static_cast<float>(occ);
         if (mode == MapMode::Scale && !img.transparent.empty() && img.transparent[src]) {
           value = -1;
         } else if (occ > occupied_thresh) {

@@ -57,13 +57,41 @@ std::size_t dropSolidInsides(LabelGrid& g, int rings, int rim) {
   return dropped;
 }
 
-LabelGrid finish(LabelGrid g, const OccupancyOptions& o, OccupancyStats* stats) {
+// OccupancyOptions::ridges: unknown cells darker than `level` and a peak of occupancy across a row,
+// a column or a diagonal become occupied (all decided on the grid as read, none from another's).
+// The level lies this share of the way from free_thresh to occupied_thresh: a one-cell band blurred
+// at 1.5 px keeps about a third of its darkness, and unknown grey sits at free_thresh.
+constexpr double kRidgeLevel = 0.25;
+template <class Occupancy>
+std::size_t occupyRidges(LabelGrid& g, Occupancy&& occ, double level) {
+  const int w = g.width, h = g.height;
+  std::vector<std::size_t> ridge;
+  for (int y = 1; y + 1 < h; ++y)
+    for (int x = 1; x + 1 < w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+      const double o = occ(i);
+      if (g.codes[i] != kCodeUnknown || !(o > level)) continue;
+      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}, std::pair{1, -1}}) {
+        const std::ptrdiff_t step = static_cast<std::ptrdiff_t>(dy) * w + dx;
+        const double a = occ(i - step), b = occ(i + step);
+        if ((o > a && o >= b) || (o >= a && o > b)) {
+          ridge.push_back(i);
+          break;
+        }
+      }
+    }
+  for (const std::size_t i : ridge) g.codes[i] = kCodeOccupied;
+  return ridge.size();
+}
+
+LabelGrid finish(LabelGrid g, const OccupancyOptions& o, OccupancyStats* stats, std::size_t ridges = 0) {
   OccupancyStats s;
   for (std::uint8_t c : g.codes) {
     s.free += c == kCodeEmpty;
     s.occupied += c == kCodeOccupied;
     s.unknown += c == kCodeUnknown;
   }
+  s.ridges = ridges;
   s.solid_inside = dropSolidInsides(g, o.face_cells, o.rim_cells);
   if (stats) *stats = s;
   g.validate();
@@ -80,7 +108,12 @@ LabelGrid fromOccupancy(const OccupancyGridMap& map, const OccupancyOptions& opt
     const int v = map.data[i];
     g.codes[i] = v == 0 ? kCodeEmpty : v == 100 ? kCodeOccupied : kCodeUnknown;
   }
-  return finish(std::move(g), options, stats);
+  std::size_t ridges = 0;
+  if (options.ridges && map.occupancy.size() == map.data.size())
+    ridges = occupyRidges(
+        g, [&](std::size_t i) { return static_cast<double>(map.occupancy[i]); },
+        map.free_thresh + kRidgeLevel * (map.occupied_thresh - map.free_thresh));
+  return finish(std::move(g), options, stats, ridges);
 }
 
 LabelGrid fromOccupancyRaster(const LabelRaster& pixels, double occupied_thresh, double free_thresh,
@@ -92,7 +125,12 @@ LabelGrid fromOccupancyRaster(const LabelRaster& pixels, double occupied_thresh,
     const double occ = (255.0 - pixels.codes[i]) / 255.0;
     g.codes[i] = occ > occupied_thresh ? kCodeOccupied : occ < free_thresh ? kCodeEmpty : kCodeUnknown;
   }
-  return finish(std::move(g), options, stats);
+  std::size_t ridges = 0;
+  if (options.ridges)
+    ridges = occupyRidges(
+        g, [&](std::size_t i) { return (255.0 - pixels.codes[i]) / 255.0; },
+        free_thresh + kRidgeLevel * (occupied_thresh - free_thresh));
+  return finish(std::move(g), options, stats, ridges);
 }
 
 bool looksLikeLabelCodes(const LabelRaster& raster, int bins) {

@@ -119,9 +119,16 @@ TEST(RosMap, ReadsMapServerVariants) {
             "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
   const OccupancyGridMap n = readRosMap(dir / "neg.yaml");
   EXPECT_EQ(n.at(0, 0), 100);  // white is occupied when negated
-  EXPECT_EQ(n.at(1, 1), -1);   // trinary: in between is unknown
+  EXPECT_EQ(n.at(1, 1), -1);   // trinary: in between is unknown ...
+  // ... its shade kept beside it (index row * width + col), with the thresholds it was read with.
+  ASSERT_EQ(n.occupancy.size(), n.data.size());
+  EXPECT_NEAR(n.occupancy[4], 128.0 / 255.0, 1e-6);  // negate: occupancy = v / 255
+  EXPECT_NEAR(n.occupancy[0], 1.0, 1e-6);
+  EXPECT_DOUBLE_EQ(n.occupied_thresh, 0.65);
+  EXPECT_DOUBLE_EQ(n.free_thresh, 0.196);
   dir.write("raw.yaml", "image: img/m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nmode: raw\n");
   EXPECT_EQ(readRosMap(dir / "raw.yaml").at(1, 1), static_cast<std::int8_t>(128));
+  EXPECT_TRUE(readRosMap(dir / "raw.yaml").occupancy.empty());  // raw values carry no shade
 }
 
 TEST(RosMap, ErrorsNameTheYaml) {

@@ -91,6 +91,48 @@ TEST(FromOccupancy, AGreyRimDoesNotPartTheWallsFromTheRoom) {
   }
 }
 
+// A 6 x 4 m room as a laser SLAM draws it: free inside, its walls a band one cell thin, unknown
+// beyond, then blurred (a 1-2-1 kernel across rows and columns, as a resampling leaves it). The
+// band turns grey: 115 at its middle, occupancy 0.55, under occupied_thresh 0.65, so the
+// thresholds read it as unknown like the grey beyond it, and the room has no wall. It is darker than
+// the cells either side of it, though, and nearer occupied than free: a ridge, read as occupied.
+TEST(FromOccupancy, AThinWallABlurMadeGreyIsStillAWall) {
+  LabelRaster img;
+  img.width = 160;
+  img.height = 120;
+  img.resolution = 0.05;
+  img.codes.assign(static_cast<std::size_t>(img.width) * img.height, 205);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const double cx = (x + 0.5) * img.resolution, cy = (y + 0.5) * img.resolution;
+      const bool band = cx > 1.0 && cx < 7.1 && cy > 1.0 && cy < 5.1;
+      const bool room = cx > 1.05 && cx < 7.05 && cy > 1.05 && cy < 5.05;
+      std::uint8_t& v = img.codes[static_cast<std::size_t>(y) * img.width + x];
+      if (band) v = room ? 254 : 0;
+    }
+  const auto blur = [&](int dx, int dy) {
+    const std::vector<std::uint8_t> in = img.codes;
+    for (int y = 1; y + 1 < img.height; ++y)
+      for (int x = 1; x + 1 < img.width; ++x) {
+        const auto at = [&](int xx, int yy) {
+          return static_cast<double>(in[static_cast<std::size_t>(yy) * img.width + xx]);
+        };
+        img.codes[static_cast<std::size_t>(y) * img.width + x] = static_cast<std::uint8_t>(
+            std::lround(0.25 * at(x - dx, y - dy) + 0.5 * at(x, y) + 0.25 * at(x + dx, y + dy)));
+      }
+  };
+  blur(1, 0);
+  blur(0, 1);
+  OccupancyStats stats;
+  const VectorizeResult r = vectorize(fromOccupancyRaster(img, 0.65, 0.196, {}, &stats));
+  EXPECT_GT(stats.ridges, 300u);
+  EXPECT_NEAR(wallLength(r.map), 20.0, 1.5);
+  EXPECT_LE(r.map.count(Material::Wall), 6u);
+  OccupancyOptions thresholds_only;
+  thresholds_only.ridges = false;
+  EXPECT_LT(wallLength(vectorize(fromOccupancyRaster(img, 0.65, 0.196, thresholds_only)).map), 1.0);
+}
+
 TEST(FromOccupancy, TheOriginAndItsYawPlaceTheFloorplan) {
   const double yaw = deg2rad(30.0);
   const OccupancyGridMap m = solidRoom(yaw);

@@ -17,6 +17,12 @@ struct OccupancyGridMap {
   double resolution = 0.05;       ///< cell size [m]
   Pose2 origin;                   ///< pose of the lower-left corner of cell (0, 0) in the map frame [m, rad]
   std::vector<std::int8_t> data;  ///< width * height values, index = row * width + col
+  /// The image's occupancy of every cell before the thresholds, (255 - v) / 255 (negate: v / 255),
+  /// in [0, 1], same index as data; empty in raw mode and for grids not read from an image. What
+  /// trinary mode reads as unknown between the thresholds keeps its shade here: a dark line a blur
+  /// or a resampling left lighter than occupied_thresh can still be told from the grey about it.
+  std::vector<float> occupancy;
+  double occupied_thresh = 0.65, free_thresh = 0.196;  ///< the thresholds `data` was read with
 
   /// Value of cell (col, row); row 0 is the bottom row.
   std::int8_t at(int col, int row) const { return data[static_cast<std::size_t>(row) * width + col]; }

@@ -135,16 +135,16 @@ struct VectorizeOptions {
   /// all but face_max_free_fraction of the samples along them), looked for this far out: furniture
   /// against a thick wall hides the room behind it [m].
   double face_outside_reach = 0.7;
-  double side_crowding_cells = 1.0;           ///< glass: look this far past the pane's band (voting: twice
-                                              ///< glass.max_distance; else one cell) for more glass [cells] ...
-  double max_side_crowding = 0.5;             ///< ... a piece with more of its cells crowded is a strip cut out
-                                              ///< of a blob, not a pane, and is dropped [-]
-  double axis_window_deg = 1.0;               ///< walls within this of a direction count for it as the
-                                              ///< dominant axis [deg]
-  double corner_min_angle_deg = 30.0;         ///< ends snap only to walls crossing at least this steeply [deg]
-  double one_sided_max_ratio = 0.25;          ///< a wall is one-sided when its less free side has at most this
-                                              ///< share of its freer side's free samples [-]
-  StructureOptions structure;                 ///< building versus clutter, doors
+  double side_crowding_cells = 1.0;    ///< glass: look this far past the pane's band (voting: twice
+                                       ///< glass.max_distance; else one cell) for more glass [cells] ...
+  double max_side_crowding = 0.5;      ///< ... a piece with more of its cells crowded is a strip cut out
+                                       ///< of a blob, not a pane, and is dropped [-]
+  double axis_window_deg = 1.0;        ///< walls within this of a direction count for it as the
+                                       ///< dominant axis [deg]
+  double corner_min_angle_deg = 30.0;  ///< ends snap only to walls crossing at least this steeply [deg]
+  double one_sided_max_ratio = 0.25;   ///< a wall is one-sided when its less free side has at most this
+                                       ///< share of its freer side's free samples [-]
+  StructureOptions structure;          ///< building versus clutter, doors
 
   static MaterialOptions glassDefaults();
   static MaterialOptions wallDefaults();
