@@ -174,7 +174,8 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
       if (dq.dot(p.d) < 0) dq = -dq;
       const Vec2 d = within ? wall->d : Vec2((p.length() * p.d + q.length() * dq).normalized());
       const Vec2 n(-d.y(), d.x());
-      // Midline between the two face lines, equally weighted whatever their cell counts.
+      // Midline between the two face lines, equally weighted whatever their cell counts (or the
+      // merged wall's own line).
       const double off = within ? n.dot(wall->c) : 0.5 * (n.dot(p.c) + n.dot(q.c));
       const double t_lo = std::min({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
       const double t_hi = std::max({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
