@@ -180,15 +180,15 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
       const double t_lo = std::min({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
       const double t_hi = std::max({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
       const double sep = std::abs(n.dot(q.c - p.c));
-      const double wall_thickness = within ? wall->thickness : 0.0;
+      const double cap = sep > ctx.opt.max_wall_thickness ? reach : ctx.opt.max_wall_thickness;
+      const double thickness = within ? wall->thickness : std::min(cap, std::max(p.thickness, sep + cloud.resolution));
       p.ids.insert(p.ids.end(), q.ids.begin(), q.ids.end());
       p.moments += q.moments;
       p.c = off * n;
       p.d = d;
       p.t0 = t_lo;
       p.t1 = t_hi;
-      const double cap = sep > ctx.opt.max_wall_thickness ? reach : ctx.opt.max_wall_thickness;
-      p.thickness = within ? wall_thickness : std::min(cap, std::max(p.thickness, sep + cloud.resolution));
+      p.thickness = thickness;
       p.faces_merged = true;
       q.alive = false;
       ++ctx.stats.face_merges;

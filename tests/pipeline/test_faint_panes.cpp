@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -77,11 +78,14 @@ struct Simulated {
   LaserLog log;
 };
 
-Simulated simulateWith(const char* laser, const char* scene_name, std::uint64_t seed = 1) {
+// `edit` changes the scene (its map, its trajectory) before it is simulated.
+Simulated simulateWith(const char* laser, const char* scene_name, std::uint64_t seed = 1,
+                       const std::function<void(sim::Scene&)>& edit = {}) {
   Simulated s;
   s.scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / scene_name / "scene.yaml");
   sim::applySensorProfile(s.scene, sim::sensorProfile(laser));
   s.scene.laser.rate = 10.0;
+  if (edit) edit(s.scene);
   sim::SimOptions so;
   so.seed = seed;
   s.log = sim::simulate(s.scene, so).log;
@@ -92,23 +96,17 @@ Simulated simulateWith(const char* laser, const char* scene_name, std::uint64_t 
 // loop around it turned `degrees` more about the room's centre (7, 6): tools/sensor_sweep.py's
 // glass-room@ANGLE for ANGLE = 25 + degrees. The hall's walls and desks stay.
 Simulated simulateTurnedGlassRoom(const char* laser, double degrees, std::uint64_t seed) {
-  Simulated s;
-  s.scene = sim::loadScene(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "maps" / "glass-room" / "scene.yaml");
-  sim::applySensorProfile(s.scene, sim::sensorProfile(laser));
-  s.scene.laser.rate = 10.0;
-  const Vec2 centre(7.0, 6.0);
-  const Eigen::Rotation2Dd turn(deg2rad(degrees));
-  auto turned = [&](const Vec2& p) -> Vec2 { return centre + turn * (p - centre); };
-  for (MapSegment& seg : s.scene.map.segments)
-    if ((seg.a - centre).norm() < 3.5 && (seg.b - centre).norm() < 3.5) {
-      seg.a = turned(seg.a);
-      seg.b = turned(seg.b);
-    }
-  for (Vec2& w : s.scene.trajectory.waypoints) w = turned(w);
-  sim::SimOptions so;
-  so.seed = seed;
-  s.log = sim::simulate(s.scene, so).log;
-  return s;
+  return simulateWith(laser, "glass-room", seed, [degrees](sim::Scene& scene) {
+    const Vec2 centre(7.0, 6.0);
+    const Eigen::Rotation2Dd turn(deg2rad(degrees));
+    auto turned = [&](const Vec2& p) -> Vec2 { return centre + turn * (p - centre); };
+    for (MapSegment& seg : scene.map.segments)
+      if ((seg.a - centre).norm() < 3.5 && (seg.b - centre).norm() < 3.5) {
+        seg.a = turned(seg.a);
+        seg.b = turned(seg.b);
+      }
+    for (Vec2& w : scene.trajectory.waypoints) w = turned(w);
+  });
 }
 
 struct Case {
