@@ -131,44 +131,47 @@ void run(const VectorizeArgs& args) {
 
   const auto& s = r.stats;
   const vector::OccupancyStats& o = input.occupancy;
-  const nlohmann::json j = {
-      {"labels", args.labels},
-      {"read_as", input.read_as},
-      {"occupancy",
-       {{"free", o.free}, {"occupied", o.occupied}, {"unknown", o.unknown}, {"solid_inside", o.solid_inside}}},
-      {"glass_segments", r.map.count(Material::Glass)},
-      {"wall_segments", r.map.count(Material::Wall)},
-      {"glass_cells", s.glass_cells},
-      {"wall_cells", s.wall_cells},
-      {"regions", s.regions},
-      {"bic_splits", s.bic_splits},
-      {"merges", s.merges},
-      {"face_merges", s.face_merges},
-      {"regularized", s.regularized},
-      {"corners", s.corners},
-      {"dropped", s.dropped},
-      {"glass_continued", s.continued},
-      {"dominant_axis_deg", s.dominant_axis_deg},
-      {"directions_deg", s.directions_deg},
-      {"lines", s.lines},
-      {"bridged", s.bridged},
-      {"openings", s.openings},
-      {"clutter_segments", r.extras.clutter.segments.size()},
-      {"doors", r.extras.doors.size()},
-      {"rooms", r.extras.rooms.size()},
-      {"scan_fit", pipeline::scanFitJson(fit)},
-      {"scan_fit_log", args.log},
-      {"scan_clutter", pipeline::scanClutterJson(clutter)},
-      {"seconds", s.seconds}};
+  const nlohmann::json j = {{"labels", args.labels},
+                            {"read_as", input.read_as},
+                            {"occupancy",
+                             {{"free", o.free},
+                              {"occupied", o.occupied},
+                              {"unknown", o.unknown},
+                              {"solid_inside", o.solid_inside},
+                              {"ridges", o.ridges}}},
+                            {"glass_segments", r.map.count(Material::Glass)},
+                            {"wall_segments", r.map.count(Material::Wall)},
+                            {"glass_cells", s.glass_cells},
+                            {"wall_cells", s.wall_cells},
+                            {"regions", s.regions},
+                            {"bic_splits", s.bic_splits},
+                            {"merges", s.merges},
+                            {"face_merges", s.face_merges},
+                            {"regularized", s.regularized},
+                            {"corners", s.corners},
+                            {"dropped", s.dropped},
+                            {"glass_continued", s.continued},
+                            {"dominant_axis_deg", s.dominant_axis_deg},
+                            {"directions_deg", s.directions_deg},
+                            {"lines", s.lines},
+                            {"bridged", s.bridged},
+                            {"openings", s.openings},
+                            {"clutter_segments", r.extras.clutter.segments.size()},
+                            {"doors", r.extras.doors.size()},
+                            {"rooms", r.extras.rooms.size()},
+                            {"scan_fit", pipeline::scanFitJson(fit)},
+                            {"scan_fit_log", args.log},
+                            {"scan_clutter", pipeline::scanClutterJson(clutter)},
+                            {"seconds", s.seconds}};
   if (!args.json.empty()) cli::writeJsonFile(args.json, j);
   if (args.quiet) return;
   std::printf("%-22s %zu x %zu cells at %.3f m (%s)\n", "input", static_cast<std::size_t>(grid.width),
               static_cast<std::size_t>(grid.height), grid.resolution, input.read_as.c_str());
   if (input.read_as != "labels")
     std::printf(
-        "%-22s %zu free, %zu occupied (%zu inside solid areas, dropped: only faces of free space are walls), "
-        "%zu unknown\n",
-        "occupancy", o.free, o.occupied, o.solid_inside, o.unknown);
+        "%-22s %zu free, %zu occupied (%zu of them thin walls read by their ridge; %zu inside solid areas, "
+        "dropped: only faces of free space are walls), %zu unknown\n",
+        "occupancy", o.free, o.occupied, o.ridges, o.solid_inside, o.unknown);
   std::printf("%-22s %zu glass, %zu wall\n", "cells", s.glass_cells, s.wall_cells);
   std::printf("%-22s %zu glass, %zu wall\n", "segments", r.map.count(Material::Glass), r.map.count(Material::Wall));
   std::printf("%-22s %zu regions, %zu BIC splits, %zu merges, %zu wall faces merged, %zu dropped\n", "fitting",

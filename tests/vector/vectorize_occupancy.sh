@@ -29,6 +29,7 @@ d = sys.argv[1]
 v = json.load(open(d + "/v.json"))
 assert v["read_as"] == "ROS occupancy map", v["read_as"]
 assert v["occupancy"]["solid_inside"] > 5000, v["occupancy"]
+assert v["occupancy"]["ridges"] == 0, v["occupancy"]  # black, grey and white only: no ridge to read
 fc = json.load(open(d + "/out/floorplan.geojson"))
 length, xs, ys = 0.0, [], []
 for f in fc["features"]:
