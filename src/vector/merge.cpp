@@ -17,6 +17,13 @@ std::pair<double, double> projectedExtent(const Piece& p, const Piece& q) {
   return {std::min(u, v), std::max(u, v)};
 }
 
+// Signed distance from p's point at t (along p.d from p.c) to q's line, along p's normal.
+double gapAt(const Piece& p, const Piece& q, double t) {
+  const Vec2 on_p = p.c + t * p.d;
+  const Vec2 foot = q.c + q.d * q.d.dot(on_p - q.c);
+  return p.normal().dot(foot - on_p);
+}
+
 // Calls f(i, j), i < j, in increasing order, for the alive pieces whose bounding boxes, grown by
 // margin, overlap (CGAL's box intersection: large maps do not cost a full pairwise pass).
 template <typename F>
@@ -117,7 +124,8 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
   for (bool changed = true; changed;) {
     changed = false;
     struct Candidate {
-      double sep;
+      double sep;  ///< the larger separation at the overlap's two ends [m]
+      double mid;  ///< the overlap's middle along the first piece [m]
       std::size_t i, j;
     };
     std::vector<Candidate> candidates;
@@ -126,18 +134,20 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
       const Piece& q = pieces[j];
       {
         if (std::abs(p.d.dot(q.d)) < cos_max) return;
-        const double side = p.normal().dot(q.c - p.c);
-        const double sep = std::abs(side);
+        const auto [u0, u1] = projectedExtent(p, q);
+        const double lo = std::max(u0, p.t0), hi = std::min(u1, p.t1);
+        const double overlap = hi - lo;
+        if (overlap < ctx.opt.face_min_overlap * std::max(p.length(), q.length())) return;
+        // The separation where the faces overlap, the larger of its two ends (two lines a few
+        // degrees apart are as far apart as they are there, not at some point of q's line).
+        const double side = gapAt(p, q, 0.5 * (lo + hi));
+        const double sep = std::max(std::abs(gapAt(p, q, lo)), std::abs(gapAt(p, q, hi)));
         if (sep > reach) return;
         const bool thick = sep > ctx.opt.max_wall_thickness;
-        const auto [u0, u1] = projectedExtent(p, q);
-        const double overlap = std::min(u1, p.t1) - std::max(u0, p.t0);
-        if (overlap < ctx.opt.face_min_overlap * std::max(p.length(), q.length())) return;
         // A thick pair as long as furniture is furniture against a wall (its front and the wall's
         // other face, free outside both); a thick wall runs on.
         if (thick && overlap < ctx.opt.structure.max_furniture_length) return;
         // Free cells between the faces: a corridor or a gap, not one wall.
-        const double lo = std::max(u0, p.t0), hi = std::min(u1, p.t1);
         int free = 0, outside = 0;
         constexpr int kSamples = 9;
         const Vec2 away = side > 0 ? Vec2(-p.normal()) : Vec2(p.normal());  // from q's side to p's
@@ -152,7 +162,7 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
         // At most that share of the samples without free space outside (counted as such, so that
         // 6 of 9 is two thirds exactly, not a rounding below it).
         if (thick && kSamples - outside > ctx.opt.face_max_free_fraction * kSamples) return;
-        candidates.push_back({sep, i, j});
+        candidates.push_back({sep, 0.5 * (lo + hi), i, j});
       }
     });
     std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
@@ -174,14 +184,16 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
       if (dq.dot(p.d) < 0) dq = -dq;
       const Vec2 d = within ? wall->d : Vec2((p.length() * p.d + q.length() * dq).normalized());
       const Vec2 n(-d.y(), d.x());
-      // Midline between the two face lines, equally weighted whatever their cell counts (or the
-      // merged wall's own line).
-      const double off = within ? n.dot(wall->c) : 0.5 * (n.dot(p.c) + n.dot(q.c));
+      // Midline between the two face lines, through the middle of their overlap, equally weighted
+      // whatever their cell counts (or the merged wall's own line).
+      const Vec2 on_p = p.c + c.mid * p.d;
+      const Vec2 on_q = q.c + q.d * q.d.dot(on_p - q.c);
+      const double off = within ? n.dot(wall->c) : 0.5 * n.dot(on_p + on_q);
       const double t_lo = std::min({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
       const double t_hi = std::max({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
-      const double sep = std::abs(n.dot(q.c - p.c));
-      const double cap = sep > ctx.opt.max_wall_thickness ? reach : ctx.opt.max_wall_thickness;
-      const double thickness = within ? wall->thickness : std::min(cap, std::max(p.thickness, sep + cloud.resolution));
+      const double cap = c.sep > ctx.opt.max_wall_thickness ? reach : ctx.opt.max_wall_thickness;
+      const double thickness =
+          within ? wall->thickness : std::min(cap, std::max(p.thickness, c.sep + cloud.resolution));
       p.ids.insert(p.ids.end(), q.ids.begin(), q.ids.end());
       p.moments += q.moments;
       p.c = off * n;

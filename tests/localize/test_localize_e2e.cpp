@@ -263,6 +263,7 @@ TEST(LocalizeE2E, AGlobalStartNeverEndsConfidentOnTheMirrorImage) {
 TEST(LocalizeE2E, GlobalLocalizationConvergesOnTheOfficeFloor) {
   int converged = 0;
   for (auto seed : kSeeds) {
+    if (converged >= 2) break;  // the assertion holds already: the third tour costs a minute of CI
     // No initial pose: 50,000 particles over the 62 x 40 m floor, the whole 5-minute tour. The
     // long main corridor is ambiguous (its far end looks like its near end, doors repeat every
     // 6 m), so convergence may take until the robot turns into a side corridor.
@@ -276,6 +277,7 @@ TEST(LocalizeE2E, GlobalLocalizationConvergesOnTheOfficeFloor) {
     bool ok = t_end > 200.0;
     for (std::size_t i = 0; i < e.times.size(); ++i)
       if (e.times[i] > t_end - 100.0 && e.position_errors[i] > 0.2) ok = false;
+    std::printf("  seed %llu: %s\n", static_cast<unsigned long long>(seed), ok ? "converged" : "not converged");
     converged += ok;
   }
   EXPECT_GE(converged, 2);
