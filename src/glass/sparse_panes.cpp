@@ -594,46 +594,12 @@ SparsePaneStats findSparsePanes(const LaserLog& log, const grid::BeamOptions& be
   // Each run's cells to draw: empty ones, not within 2 cells of glass the classifiers found (a
   // second line of glass beside a classified pane, a cell off, would make a band the vectorizer
   // fits between the two).
-  // A run along a pane the classifiers drew over most of the run's length fills that pane's gaps
-  // and lengthens it only towards a wall: they saw where it ends, unless it ends in a frame (the
-  // cells next to a frame are met only at wide angles), and past a free end the run's band gathers
-  // the returns of what the pane meets (0.2-0.4 m into a door gap or past a glass room's corner).
   std::vector<std::vector<std::size_t>> to_draw(seen_through.size());
-  for (std::size_t r = 0; r < seen_through.size(); ++r) {
-    const Run& run = seen_through[r];
-    const Vec2 t = run.line.tangent();
-    double c0 = std::numeric_limits<double>::infinity(), c1 = -c0;
-    forRunCells(g, run, [&](std::size_t i) {
+  for (std::size_t r = 0; r < seen_through.size(); ++r)
+    forRunCells(g, seen_through[r], [&](std::size_t i) {
       const grid::CellIndex c = g.cellOf(i);
-      if (sparse::glassInBlock(g, e.label, c.x, c.y, 2) == 0) return;
-      const double s = t.dot(g.center(c.x, c.y));
-      c0 = std::min(c0, s);
-      c1 = std::max(c1, s);
-    });
-    double lo = -std::numeric_limits<double>::infinity(), hi = -lo;
-    if (c1 - c0 >= o.classified_share * (run.s1 - run.s0)) {
-      // A wall on the line from the classified end to a frame's reach past the run's end.
-      auto wallAhead = [&](double from, double to) {
-        const double step = 0.5 * g.resolution, dir = to > from ? 1.0 : -1.0;
-        for (double k = 0.0; k <= std::abs(to - from); k += step) {
-          const grid::CellIndex c = g.cellAt(run.end(from + dir * k));
-          if (!g.contains(c.x, c.y)) return false;
-          const int l = e.label[g.index(c.x, c.y)];
-          if (l == kOccupied) return true;
-          if (l == kUnknown) return false;
-        }
-        return false;
-      };
-      if (!wallAhead(c0, run.s0 - o.frame_reach)) lo = c0;
-      if (!wallAhead(c1, run.s1 + o.frame_reach)) hi = c1;
-    }
-    forRunCells(g, run, [&](std::size_t i) {
-      const grid::CellIndex c = g.cellOf(i);
-      const double s = t.dot(g.center(c.x, c.y));
-      if (s < lo || s > hi) return;
       if (e.label[i] == kEmpty && sparse::glassInBlock(g, e.label, c.x, c.y, 2) == 0) to_draw[r].push_back(i);
     });
-  }
   // Not seen through another pane: the labels with every candidate drawn in as glass.
   CellEvidence panes;
   panes.geometry = g;

@@ -193,8 +193,6 @@ nlohmann::json mapOptionsJson(const MapOptions& options) {
             {"min_specific", options.sparse.min_specific},
             {"max_place_dt_s", options.sparse.max_place_dt_s},
             {"max_place_ds", options.sparse.max_place_ds},
-            {"classified_share", options.sparse.classified_share},
-            {"frame_reach", options.sparse.frame_reach},
             {"log10_max_nfa", options.sparse.log10_max_nfa}}},
           {"opaque_glass",
            {{"enabled", options.opaque_glass},

@@ -198,39 +198,6 @@ TEST(FaintPanes, APanesOwnPhantomsInFrontOfItAreNoPaneItIsSeenThrough) {
   expectPanesFound(simulateTurnedGlassRoom("random:112", 12.0, 7));
 }
 
-// random:6 (peak 0.44, lobe sigma 3.2 deg, 13% at any angle) around the glass room: the classifiers
-// find every pane, and the sparse-pane search finds runs along them too. Past a pane's end a run's
-// band gathers returns of what the pane meets, and drew glass 0.2-0.4 m into the door gap and past
-// the corners (cell F1@2 1.000 without the search, 0.972 with it, stop 53-54). A run along a pane
-// the classifiers drew over half its length or more now fills that pane's gaps, and lengthens it
-// only towards a wall (next test).
-TEST(FaintPanes, ARunAlongAPaneTheClassifiersFoundDrawsNothingPastItsEnds) {
-  const Simulated s = simulateWith("random:6", "glass-room");
-  const MapResult r = mapLog(s.log);
-  const PaneCells n = countPaneCells(s.scene.map, r.evidence);
-  EXPECT_GE(n.on_glass, 0.95 * static_cast<double>(n.on));
-  EXPECT_LE(n.off_glass, 2u);
-  MapOptions lengthen;
-  lengthen.sparse.classified_share = 2.0;  // no run counts as found: each draws its whole length
-  const PaneCells was = countPaneCells(s.scene.map, mapLog(s.log, lengthen).evidence);
-  EXPECT_GE(was.off_glass, n.off_glass + 8);
-}
-
-// The scanner profile sick-lms200 along paper-corridor: a pane that ends in a wall is met near its
-// frame only at wide angles, so the classifiers stop short of it, and the search's run goes on to
-// the frame. Cut at the classifiers' end, paper-corridor lost 0.8 m of one pane (cell F1@2 0.975 ->
-// 0.966 in tools/sensor_sweep.py); a run lengthens a pane the classifiers found towards a wall within
-// SparsePaneOptions::frame_reach past its end.
-TEST(FaintPanes, ARunStillLengthensAPaneToTheFrameItEndsIn) {
-  const Simulated s = simulateWith("sick-lms200", "paper-corridor");
-  const PaneCells n = countPaneCells(s.scene.map, mapLog(s.log).evidence);
-  MapOptions cut;
-  cut.sparse.frame_reach = 0.0;
-  const PaneCells was = countPaneCells(s.scene.map, mapLog(s.log, cut).evidence);
-  EXPECT_GE(n.on_glass, was.on_glass + 4);
-  EXPECT_LE(n.off_glass, was.off_glass);
-}
-
 // random:30 (peak 0.50, lobe sigma 2.6 deg, 9% at any angle, 2.2 cm noise + 0.9% of the range)
 // around the glass room: its panes return near their normal only, from a few of the robot's
 // poses, so the direct classifier finds one pane cell in three or four; the others have the

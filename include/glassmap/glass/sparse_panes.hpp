@@ -89,11 +89,6 @@ struct SparsePaneOptions {
   double glass_margin = 0.15;  ///< a return crossed another pane when it did this far before it [m]
   int min_pane_cells = 4;      ///< ...in a glass cell with this many glass cells in its 5 x 5 block
   double max_via = 0.5;        ///< a run is not a pane when this share of its returns crossed another
-  /// A run the classifiers' glass lies along (within 2 cells) over this share of its length or
-  /// more is a pane they found: it fills the pane's gaps, and draws past their ends only towards a
-  /// wall on its line within frame_reach past the run's end (a pane ending in its frame) [-].
-  double classified_share = 0.5;
-  double frame_reach = 1.0;  ///< [m]
   /// A run is a transient (people walking by) when, for a static surface, the near-normal beams of
   /// its scans would return together this rarely (one-sided p of the within-scan correlation's
   /// score test)...
