@@ -188,16 +188,27 @@ TEST(Structure, AWallHiddenBehindACabinetIsBridged) {
   EXPECT_GE(pieces, 2u);  // without the structure step: in pieces either side of the cabinet
 }
 
+// tests/data/vector/<name>.geojson.
+VectorMap testPlan(const char* name) {
+  return readFloorplan(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "tests" / "data" / "vector" /
+                       (std::string(name) + ".geojson"));
+}
+
+// A test map without added furniture (no pieces, no bins) in `convention`.
+SyntheticMapOptions emptyMap(MapConvention convention) {
+  SyntheticMapOptions so;
+  so.convention = convention;
+  so.furniture_cover = 0.0;
+  so.bins_per_100m2 = 0.0;
+  return so;
+}
+
 // A pentagonal building: its facades, corridor and courtyard walls run in five directions 36
 // degrees apart, found from the data (the room walls between them, in five more directions, are
 // each too little of the plan to count as a direction of the building and keep their own).
 TEST(Structure, APentagonsDirectionsAreFound) {
-  const VectorMap plan =
-      readFloorplan(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "tests" / "data" / "vector" / "pentagon.geojson");
-  SyntheticMapOptions so;
-  so.convention = MapConvention::Solid;
-  so.furniture_cover = 0.0;
-  so.bins_per_100m2 = 0.0;
+  const VectorMap plan = testPlan("pentagon");
+  SyntheticMapOptions so = emptyMap(MapConvention::Solid);
   const SyntheticMap m = makeSyntheticMap(plan, so);
   const VectorizeResult r = vectorizeAsRead(m);
   std::vector<double> d = r.stats.directions_deg;
@@ -233,12 +244,8 @@ TEST(Structure, APentagonsDirectionsAreFound) {
 // overlap (the foot of the grid corner on a structure line): a slanted wall came out 0.57 m thick
 // and swallowed a third face. Measured where the faces overlap, no wall is thicker than the plan's.
 TEST(Structure, TheFacesOfSlantedWallsMergeAsThickAsTheWallsAre) {
-  const VectorMap plan =
-      readFloorplan(std::filesystem::path(GLASSMAP_SOURCE_DIR) / "tests" / "data" / "vector" / "angled-office.geojson");
-  SyntheticMapOptions so;
-  so.convention = MapConvention::Slam;
-  so.furniture_cover = 0.0;
-  so.bins_per_100m2 = 0.0;
+  const VectorMap plan = testPlan("angled-office");
+  SyntheticMapOptions so = emptyMap(MapConvention::Slam);
   so.plan_furniture = false;
   so.seed = 3;
   const SyntheticMap m = makeSyntheticMap(plan, so);
