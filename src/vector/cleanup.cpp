@@ -124,7 +124,7 @@ void snapCorners(std::vector<Piece>& glass, std::vector<Piece>& walls, const Con
       const Vec2 diff = w.c - p.c;
       const double t = (diff.x() * w.d.y() - diff.y() * w.d.x()) / cross;
       const double s = (diff.x() * p.d.y() - diff.y() * p.d.x()) / cross;
-      const Vec2 x = p.c + t * p.d;
+      const Vec2 x = p.at(t);
       const double dist = (x - end).norm();
       if (dist >= best || s < w.t0 - snap || s > w.t1 + snap) continue;
       // Never flip or halve the segment.

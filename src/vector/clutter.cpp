@@ -21,7 +21,7 @@ bool meets(const Piece& p, const Vec2& e, const Piece& q, const Context& ctx, do
   const double cross = std::abs(p.d.x() * q.d.y() - p.d.y() * q.d.x());
   if (cross < std::sin(deg2rad(ctx.opt.corner_min_angle_deg))) return false;
   const double t = std::clamp(q.d.dot(e - q.c), q.t0 - beyond, q.t1 + beyond);
-  return (q.c + t * q.d - e).norm() <= ctx.opt.corner_snap;
+  return (q.at(t) - e).norm() <= ctx.opt.corner_snap;
 }
 
 // Overlap of q's extent with p's, along p [m].

@@ -128,7 +128,7 @@ double log10FalseAlarms(const Piece& p, const CellCloud& cloud, double band, dou
   for (double t = p.t0 + 0.5 * res; t < p.t1; t += res) {
     for (double u = 2.0 * band + 0.5 * res; u <= ring; u += res) {
       for (const double side : {-1.0, 1.0}) {
-        const Vec2 q = p.c + t * p.d + side * u * n;
+        const Vec2 q = p.at(t) + side * u * n;
         const int x = static_cast<int>(std::floor(q.x() / res)), y = static_cast<int>(std::floor(q.y() / res));
         ++ring_cells;
         if (x < 0 || y < 0 || x >= cloud.width || y >= cloud.height) continue;

@@ -19,9 +19,8 @@ std::pair<double, double> projectedExtent(const Piece& p, const Piece& q) {
 
 // Signed distance from p's point at t (along p.d from p.c) to q's line, along p's normal.
 double gapAt(const Piece& p, const Piece& q, double t) {
-  const Vec2 on_p = p.c + t * p.d;
-  const Vec2 foot = q.c + q.d * q.d.dot(on_p - q.c);
-  return p.normal().dot(foot - on_p);
+  const Vec2 on_p = p.at(t);
+  return p.normal().dot(q.foot(on_p) - on_p);
 }
 
 // Calls f(i, j), i < j, in increasing order, for the alive pieces whose bounding boxes, grown by
@@ -153,8 +152,8 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
         const Vec2 away = side > 0 ? Vec2(-p.normal()) : Vec2(p.normal());  // from q's side to p's
         for (int k = 0; k < kSamples; ++k) {
           const double t = lo + (hi - lo) * (k + 0.5) / kSamples;
-          const Vec2 on_p = p.c + t * p.d;
-          const Vec2 foot = q.c + q.d * q.d.dot(on_p - q.c);
+          const Vec2 on_p = p.at(t);
+          const Vec2 foot = q.foot(on_p);
           if (ctx.isFree(0.5 * (on_p + foot))) ++free;
           if (thick && freeOutside(on_p, away) && freeOutside(foot, -away)) ++outside;
         }
@@ -186,9 +185,8 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
       const Vec2 n(-d.y(), d.x());
       // Midline between the two face lines, through the middle of their overlap, equally weighted
       // whatever their cell counts (or the merged wall's own line).
-      const Vec2 on_p = p.c + c.mid * p.d;
-      const Vec2 on_q = q.c + q.d * q.d.dot(on_p - q.c);
-      const double off = within ? n.dot(wall->c) : 0.5 * n.dot(on_p + on_q);
+      const Vec2 on_p = p.at(c.mid);
+      const double off = within ? n.dot(wall->c) : 0.5 * n.dot(on_p + q.foot(on_p));
       const double t_lo = std::min({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
       const double t_hi = std::max({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
       const double cap = c.sep > ctx.opt.max_wall_thickness ? reach : ctx.opt.max_wall_thickness;

@@ -31,8 +31,11 @@ struct Piece {
   bool alive = true;
   std::vector<std::uint32_t> parts;  ///< structure step: the fitted pieces a wall line joined into this one
 
-  Vec2 a() const { return c + t0 * d; }
-  Vec2 b() const { return c + t1 * d; }
+  Vec2 at(double t) const { return c + t * d; }  ///< the line's point t along d from c
+  Vec2 a() const { return at(t0); }
+  Vec2 b() const { return at(t1); }
+  /// The foot of x on the line.
+  Vec2 foot(const Vec2& x) const { return c + d * d.dot(x - c); }
   double length() const { return t1 - t0; }
   Vec2 normal() const { return {-d.y(), d.x()}; }
 };
