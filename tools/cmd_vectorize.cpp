@@ -147,6 +147,7 @@ void run(const VectorizeArgs& args) {
                             {"bic_splits", s.bic_splits},
                             {"merges", s.merges},
                             {"face_merges", s.face_merges},
+                            {"wall_thickness", s.wall_thickness},
                             {"regularized", s.regularized},
                             {"corners", s.corners},
                             {"dropped", s.dropped},
@@ -176,6 +177,11 @@ void run(const VectorizeArgs& args) {
   std::printf("%-22s %zu glass, %zu wall\n", "segments", r.map.count(Material::Glass), r.map.count(Material::Wall));
   std::printf("%-22s %zu regions, %zu BIC splits, %zu merges, %zu wall faces merged, %zu dropped\n", "fitting",
               s.regions, s.bic_splits, s.merges, s.face_merges, s.dropped);
+  if (s.wall_thickness > args.options.max_wall_thickness)
+    std::printf(
+        "%-22s faces up to %.2f m apart are one wall: the building's long walls seen from both sides are "
+        "that thick (measured; --max-wall-thickness %.2f)\n",
+        "wall thickness", s.wall_thickness, args.options.max_wall_thickness);
   std::printf("%-22s %.1f deg, %zu segments snapped, %zu ends joined\n", "axes", s.dominant_axis_deg, s.regularized,
               s.corners);
   std::printf("%-22s %zu lines, %zu gaps bridged, %zu openings, %zu doors, %zu rooms, %zu clutter segments\n",
@@ -259,7 +265,10 @@ const cli::Registrar reg(50, [](CLI::App& app) {
                   "as a wall there [m] (at least --corner-snap)")
       ->capture_default_str();
   cmd->add_option("--max-wall-thickness", args->options.max_wall_thickness,
-                  "merge parallel wall faces closer than this into one centre line [m]")
+                  "merge parallel wall faces closer than this into one centre line [m]; a building whose long walls "
+                  "seen from both sides are thicker (6 m of them or more within a cell and a half of one thickness) "
+                  "has its own thickness measured and used instead, at most --max-two-sided-thickness (printed, "
+                  "and wall_thickness in --json)")
       ->capture_default_str();
   cmd->add_option("--max-two-sided-thickness", args->options.max_two_sided_thickness,
                   "also merge faces up to this far apart when free space lies outside both (within 0.7 m: "

@@ -104,7 +104,7 @@ void separateClutter(std::vector<Piece> joined, const std::vector<std::size_t>& 
     const Piece& p = joined[i];
     if (!wall[i] || p.faces_merged || p.length() >= o.max_furniture_length) continue;
     const double depth = depthBehind(p, o.furniture_depth, ctx);
-    if (depth > ctx.opt.max_wall_thickness + 2 * ctx.grid.resolution && depth <= o.furniture_depth) wall[i] = 0;
+    if (depth > ctx.wall_thickness + 2 * ctx.grid.resolution && depth <= o.furniture_depth) wall[i] = 0;
   }
   // In front of a longer parallel wall, close to it and overlapping it: furniture against it.
   std::vector<char> shadowed(n, 0);

@@ -4,12 +4,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "box_pairs.hpp"
 #include "glassmap/core/angles.hpp"
 
 namespace glassmap::vector::detail {
+
+namespace {
+// The building's thick walls: separations within this many cells (or a tenth) of the most common.
+constexpr double kThicknessWindowCells = 1.5;
+// ... holding at least this many times structure.max_furniture_length of wall.
+constexpr double kThickWallEvidence = 2.0;
+}  // namespace
 
 // Interval of q's extent projected on p's line.
 std::pair<double, double> projectedExtent(const Piece& p, const Piece& q) {
@@ -105,12 +113,22 @@ void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material
   }
 }
 
-// Wall faces: two near-parallel wall pieces less than max_wall_thickness apart, overlapping over
-// half the longer one, with no free space between them, become one centre line; up to
-// max_two_sided_thickness apart when free space also lies outside both (seen from both sides).
-void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Context& ctx) {
+namespace {
+
+// Two near-parallel wall faces as one wall's candidates: where they overlap, how far apart.
+struct FacePair {
+  double sep;      ///< the larger separation at the overlap's two ends [m]
+  double lo, hi;   ///< the overlap along p [m]
+  double overlap;  ///< [m]
+};
+
+// p and q as the two faces of one wall no thicker than `thickness` (solid between them), or up to
+// max_two_sided_thickness with free space outside both and as long as structure.
+// max_furniture_length at least (a thick wall seen from both sides); std::nullopt for anything
+// else (furniture against a wall, a corridor).
+std::optional<FacePair> facePair(const Piece& p, const Piece& q, double thickness, const Context& ctx) {
   const double cos_max = std::cos(deg2rad(ctx.opt.wall.merge_angle_deg));
-  const double reach = std::max(ctx.opt.max_wall_thickness, ctx.opt.max_two_sided_thickness);
+  const double reach = std::max(thickness, ctx.opt.max_two_sided_thickness);
   const double res = ctx.grid.resolution;
   // Free space outside a face: from one and a half cells past its line, away from the other face,
   // out to face_outside_reach (furniture standing against the face hides the room behind it).
@@ -120,6 +138,77 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
       if (ctx.isFree(on + k * away)) return true;
     return false;
   };
+  if (std::abs(p.d.dot(q.d)) < cos_max) return std::nullopt;
+  const auto [u0, u1] = projectedExtent(p, q);
+  const double lo = std::max(u0, p.t0), hi = std::min(u1, p.t1);
+  const double overlap = hi - lo;
+  const double longer = std::max(p.length(), q.length());
+  if (overlap < ctx.opt.face_min_overlap * longer) return std::nullopt;
+  // The separation where the faces overlap, the larger of its two ends (two lines a few degrees
+  // apart are as far apart as they are there, not at some point of q's line).
+  const double side = gapAt(p, q, 0.5 * (lo + hi));
+  const double sep = std::max(std::abs(gapAt(p, q, lo)), std::abs(gapAt(p, q, hi)));
+  if (sep > reach) return std::nullopt;
+  const bool thick = sep > thickness;
+  // A thick pair as long as furniture is furniture against a wall (its front and the wall's other
+  // face, free outside both); a thick wall runs on.
+  if (thick && overlap < ctx.opt.structure.max_furniture_length) return std::nullopt;
+  // Free cells between the faces: a corridor or a gap, not one wall.
+  int free = 0, outside = 0;
+  constexpr int kSamples = 9;
+  const Vec2 away = side > 0 ? Vec2(-p.normal()) : Vec2(p.normal());  // from q's side to p's
+  for (int k = 0; k < kSamples; ++k) {
+    const double t = lo + (hi - lo) * (k + 0.5) / kSamples;
+    const Vec2 on_p = p.at(t);
+    const Vec2 foot = q.foot(on_p);
+    if (ctx.isFree(0.5 * (on_p + foot))) ++free;
+    if (thick && freeOutside(on_p, away) && freeOutside(foot, -away)) ++outside;
+  }
+  if (free > ctx.opt.face_max_free_fraction * kSamples) return std::nullopt;
+  // At most that share of the samples without free space outside (counted as such, so that 6 of 9
+  // is two thirds exactly, not a rounding below it).
+  if (thick && kSamples - outside > ctx.opt.face_max_free_fraction * kSamples) return std::nullopt;
+  return FacePair{sep, lo, hi, overlap};
+}
+
+}  // namespace
+
+double buildingWallThickness(const std::vector<Piece>& pieces, const Context& ctx) {
+  const double given = ctx.opt.max_wall_thickness;
+  if (ctx.opt.max_two_sided_thickness <= given) return given;
+  // The long thick walls seen from both sides, as mergeFaces takes them: separation and overlap.
+  std::vector<std::pair<double, double>> walls;
+  forNearbyPairs(pieces, std::max(given, ctx.opt.max_two_sided_thickness), [&](std::size_t i, std::size_t j) {
+    const std::optional<FacePair> f = facePair(pieces[i], pieces[j], given, ctx);
+    if (f && f->sep > given) walls.emplace_back(f->sep, f->overlap);
+  });
+  if (walls.empty()) return given;
+  // Their most common separation (the window holding the most metres of wall), and the walls in
+  // that window: the building's thick walls, if they are enough of its walls.
+  const auto window = [&](double t) { return std::max(kThicknessWindowCells * ctx.grid.resolution, 0.1 * t); };
+  double best = 0.0, best_len = 0.0;
+  for (const auto& [t, unused] : walls) {
+    double len = 0.0;
+    for (const auto& [s, l] : walls)
+      if (std::abs(s - t) <= window(t)) len += l;
+    if (len > best_len) best = t, best_len = len;
+  }
+  if (best_len < kThickWallEvidence * ctx.opt.structure.max_furniture_length) return given;
+  double thickest = given;
+  for (const auto& [s, l] : walls)
+    if (std::abs(s - best) <= window(best)) thickest = std::max(thickest, s + ctx.grid.resolution);
+  return std::min(thickest, ctx.opt.max_two_sided_thickness);
+}
+
+// Wall faces: two near-parallel wall pieces no farther apart than the building's wall thickness
+// (ctx.wall_thickness), overlapping over half the longer one, with no free space between them,
+// become one centre line, however short (a wall stub between two rooms); up to
+// max_two_sided_thickness apart when free space also lies outside both (seen from both sides) and
+// they are long.
+void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Context& ctx) {
+  const double wall_thickness = ctx.wall_thickness;
+  const double reach = std::max(wall_thickness, ctx.opt.max_two_sided_thickness);
+  const double res = ctx.grid.resolution;
   for (bool changed = true; changed;) {
     changed = false;
     struct Candidate {
@@ -129,40 +218,8 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
     };
     std::vector<Candidate> candidates;
     forNearbyPairs(pieces, reach, [&](std::size_t i, std::size_t j) {
-      const Piece& p = pieces[i];
-      const Piece& q = pieces[j];
-      {
-        if (std::abs(p.d.dot(q.d)) < cos_max) return;
-        const auto [u0, u1] = projectedExtent(p, q);
-        const double lo = std::max(u0, p.t0), hi = std::min(u1, p.t1);
-        const double overlap = hi - lo;
-        if (overlap < ctx.opt.face_min_overlap * std::max(p.length(), q.length())) return;
-        // The separation where the faces overlap, the larger of its two ends (two lines a few
-        // degrees apart are as far apart as they are there, not at some point of q's line).
-        const double side = gapAt(p, q, 0.5 * (lo + hi));
-        const double sep = std::max(std::abs(gapAt(p, q, lo)), std::abs(gapAt(p, q, hi)));
-        if (sep > reach) return;
-        const bool thick = sep > ctx.opt.max_wall_thickness;
-        // A thick pair as long as furniture is furniture against a wall (its front and the wall's
-        // other face, free outside both); a thick wall runs on.
-        if (thick && overlap < ctx.opt.structure.max_furniture_length) return;
-        // Free cells between the faces: a corridor or a gap, not one wall.
-        int free = 0, outside = 0;
-        constexpr int kSamples = 9;
-        const Vec2 away = side > 0 ? Vec2(-p.normal()) : Vec2(p.normal());  // from q's side to p's
-        for (int k = 0; k < kSamples; ++k) {
-          const double t = lo + (hi - lo) * (k + 0.5) / kSamples;
-          const Vec2 on_p = p.at(t);
-          const Vec2 foot = q.foot(on_p);
-          if (ctx.isFree(0.5 * (on_p + foot))) ++free;
-          if (thick && freeOutside(on_p, away) && freeOutside(foot, -away)) ++outside;
-        }
-        if (free > ctx.opt.face_max_free_fraction * kSamples) return;
-        // At most that share of the samples without free space outside (counted as such, so that
-        // 6 of 9 is two thirds exactly, not a rounding below it).
-        if (thick && kSamples - outside > ctx.opt.face_max_free_fraction * kSamples) return;
-        candidates.push_back({sep, 0.5 * (lo + hi), i, j});
-      }
+      const std::optional<FacePair> f = facePair(pieces[i], pieces[j], wall_thickness, ctx);
+      if (f) candidates.push_back({f->sep, 0.5 * (f->lo + f->hi), i, j});
     });
     std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
       return a.sep < b.sep || (a.sep == b.sep && std::make_pair(a.i, a.j) < std::make_pair(b.i, b.j));
@@ -189,7 +246,7 @@ void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Contex
       const double off = within ? n.dot(wall->c) : 0.5 * n.dot(on_p + q.foot(on_p));
       const double t_lo = std::min({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
       const double t_hi = std::max({d.dot(p.a()), d.dot(p.b()), d.dot(q.a()), d.dot(q.b())});
-      const double cap = c.sep > ctx.opt.max_wall_thickness ? reach : ctx.opt.max_wall_thickness;
+      const double cap = c.sep > wall_thickness ? reach : wall_thickness;
       const double thickness =
           within ? wall->thickness : std::min(cap, std::max(p.thickness, c.sep + cloud.resolution));
       p.ids.insert(p.ids.end(), q.ids.begin(), q.ids.end());

@@ -49,6 +49,9 @@ struct Context {
   const VectorizeOptions& opt;
   VectorizeStats& stats;
   double sigma0_sq;  ///< BIC noise floor [m^2]
+  /// Two wall faces this far apart or closer (solid between) are one wall: opt.max_wall_thickness,
+  /// or the building's own thicker walls (buildingWallThickness) once the faces were fitted [m].
+  double wall_thickness;
   /// Bayesian information criterion of `segments` lines explaining n cells with residual rss.
   double bic(double rss, double n, double segments) const {
     return n * std::log(std::max(rss / n, sigma0_sq)) + segments * opt.params_per_segment * std::log(n);
@@ -83,6 +86,11 @@ void glassPiecesByVoting(const CellCloud& cloud, const MaterialOptions& mo, cons
 void mergeCollinear(std::vector<Piece>& pieces, const CellCloud& cloud, Material material, const MaterialOptions& mo,
                     const Context& ctx);
 bool unseenGap(const Piece& p, double t, double len, const Context& ctx);
+/// The thickest pair of faces that is one wall in this building: opt.max_wall_thickness, or more
+/// when the building's long walls seen from both sides are thicker: at least
+/// 2 x structure.max_furniture_length of them within a cell and a half (or a tenth) of one
+/// separation, then the thickest of those plus a cell (at most opt.max_two_sided_thickness).
+double buildingWallThickness(const std::vector<Piece>& pieces, const Context& ctx);
 void mergeFaces(std::vector<Piece>& pieces, const CellCloud& cloud, const Context& ctx);
 void compact(std::vector<Piece>& pieces);
 // filter.cpp

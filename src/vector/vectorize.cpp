@@ -52,8 +52,7 @@ using detail::Context;
 using detail::Piece;
 using namespace detail;  // the steps
 
-std::vector<Piece> fitMaterial(const CellCloud& cloud, Material material, const MaterialOptions& mo,
-                               const Context& ctx) {
+std::vector<Piece> fitMaterial(const CellCloud& cloud, Material material, const MaterialOptions& mo, Context& ctx) {
   std::vector<Piece> pieces;
   if (cloud.points.empty()) return pieces;
   if (material == Material::Glass && ctx.opt.glass_voting) {
@@ -71,6 +70,8 @@ std::vector<Piece> fitMaterial(const CellCloud& cloud, Material material, const 
   mergeCollinear(pieces, cloud, material, mo, ctx);
   compact(pieces);
   if (material == Material::Wall) {
+    ctx.wall_thickness = buildingWallThickness(pieces, ctx);
+    ctx.stats.wall_thickness = ctx.wall_thickness;
     mergeFaces(pieces, cloud, ctx);
     compact(pieces);
     mergeCollinear(pieces, cloud, material, mo, ctx);
@@ -114,7 +115,7 @@ VectorizeResult vectorize(const LabelGrid& grid, const VectorizeOptions& given) 
   VectorizeResult result;
   VectorizeStats& stats = result.stats;
   const double floor_m = options.noise_floor * grid.resolution;
-  const Context ctx{grid, options, stats, floor_m * floor_m};
+  Context ctx{grid, options, stats, floor_m * floor_m, options.max_wall_thickness};
 
   const CellCloud glass_cloud = makeCloud(grid, Material::Glass, options.glass);
   const CellCloud wall_cloud = makeCloud(grid, Material::Wall, options.wall);

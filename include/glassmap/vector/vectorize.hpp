@@ -157,17 +157,20 @@ struct VectorizeStats {
   std::size_t bic_splits = 0;                   ///< pieces split by the criterion
   std::size_t merges = 0;                       ///< collinear merges accepted
   std::size_t face_merges = 0;                  ///< wall face pairs merged into a centre line
-  std::size_t face_aligned = 0;                 ///< one-sided walls moved onto their observed face
-  std::size_t regularized = 0;                  ///< segments rotated onto an axis
-  std::size_t corners = 0;                      ///< segment ends moved to close a corner or T
-  std::size_t dropped = 0;                      ///< pieces dropped (too short, too few cells, blob)
-  std::size_t continued = 0;                    ///< glass runs kept as the continuation of an accepted pane
-  double dominant_axis_deg = 0.0;               ///< the floor's dominant wall direction in [0, 90) [deg]
-  std::vector<double> directions_deg;           ///< structure: the wall directions found in [0, 180) [deg]
-  std::size_t lines = 0;                        ///< structure: wall lines (pieces grouped by direction and offset)
-  std::size_t bridged = 0;                      ///< structure: gaps along a line claimed as wall
-  std::size_t openings = 0;                     ///< structure: gaps kept open (doors among them)
-  double seconds = 0.0;                         ///< wall-clock time [s]
+  /// Faces this far apart or closer are one wall: max_wall_thickness, or the building's own
+  /// thicker walls measured from its long walls seen from both sides [m].
+  double wall_thickness = 0.0;
+  std::size_t face_aligned = 0;        ///< one-sided walls moved onto their observed face
+  std::size_t regularized = 0;         ///< segments rotated onto an axis
+  std::size_t corners = 0;             ///< segment ends moved to close a corner or T
+  std::size_t dropped = 0;             ///< pieces dropped (too short, too few cells, blob)
+  std::size_t continued = 0;           ///< glass runs kept as the continuation of an accepted pane
+  double dominant_axis_deg = 0.0;      ///< the floor's dominant wall direction in [0, 90) [deg]
+  std::vector<double> directions_deg;  ///< structure: the wall directions found in [0, 180) [deg]
+  std::size_t lines = 0;               ///< structure: wall lines (pieces grouped by direction and offset)
+  std::size_t bridged = 0;             ///< structure: gaps along a line claimed as wall
+  std::size_t openings = 0;            ///< structure: gaps kept open (doors among them)
+  double seconds = 0.0;                ///< wall-clock time [s]
 };
 
 /// The floorplan and how it was obtained.
