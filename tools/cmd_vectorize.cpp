@@ -274,7 +274,8 @@ const cli::Registrar reg(50, [](CLI::App& app) {
                   "also merge faces up to this far apart when free space lies outside both (within 0.7 m: "
                   "furniture may stand against a face) and they overlap over 3 m or more, also once the structure "
                   "step has joined a face's pieces (a thick wall seen from both sides; a shorter pair is furniture "
-                  "against a wall) [m] (at most --max-wall-thickness: off)")
+                  "against a wall, unless the building's own wall thickness, measured, covers it) [m] (at most "
+                  "--max-wall-thickness: off)")
       ->capture_default_str();
   cmd->add_option("--noise-floor", args->options.noise_floor,
                   "BIC: floor of the rms cell offset from a line [cells]; higher merges more")
