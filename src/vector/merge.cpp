@@ -178,7 +178,7 @@ double buildingWallThickness(const std::vector<Piece>& pieces, const Context& ct
   if (ctx.opt.max_two_sided_thickness <= given) return given;
   // The long thick walls seen from both sides, as mergeFaces takes them: separation and overlap.
   std::vector<std::pair<double, double>> walls;
-  forNearbyPairs(pieces, std::max(given, ctx.opt.max_two_sided_thickness), [&](std::size_t i, std::size_t j) {
+  forNearbyPairs(pieces, ctx.opt.max_two_sided_thickness, [&](std::size_t i, std::size_t j) {
     const std::optional<FacePair> f = facePair(pieces[i], pieces[j], given, ctx);
     if (f && f->sep > given) walls.emplace_back(f->sep, f->overlap);
   });

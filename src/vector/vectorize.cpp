@@ -71,7 +71,6 @@ std::vector<Piece> fitMaterial(const CellCloud& cloud, Material material, const 
   compact(pieces);
   if (material == Material::Wall) {
     ctx.wall_thickness = buildingWallThickness(pieces, ctx);
-    ctx.stats.wall_thickness = ctx.wall_thickness;
     mergeFaces(pieces, cloud, ctx);
     compact(pieces);
     mergeCollinear(pieces, cloud, material, mo, ctx);
@@ -172,6 +171,7 @@ VectorizeResult vectorize(const LabelGrid& grid, const VectorizeOptions& given) 
       s.a += grid.origin;
       s.b += grid.origin;
     }
+  stats.wall_thickness = ctx.wall_thickness;
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
